@@ -1,0 +1,63 @@
+// hribench: the command-line entry point. Subcommands live in src/cli/*_command.cc.
+
+#include <cstdio>
+#include <exception>
+#include <functional>
+#include <map>
+
+#include "cli/command.h"
+#include "core/errors.h"
+#include "core/log.h"
+#include "core/version.h"
+
+namespace hribench::cli {
+
+std::vector<Command>& registry() {
+  static std::vector<Command> commands;
+  return commands;
+}
+
+Registration::Registration(Command command) { registry().push_back(std::move(command)); }
+
+namespace {
+
+int run(int argc, char** argv) {
+  CLI::App app{"HRIBench: interaction-centric human-robot collaboration benchmark"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string(core::version()) + " (" +
+                                        std::string(core::git_hash()) + ")");
+  std::string log_level = "info";
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off");
+
+  std::map<CLI::App*, std::function<int()>> runners;
+  for (const Command& command : registry()) {
+    CLI::App* sub = app.add_subcommand(command.name, command.help);
+    runners[sub] = command.setup(*sub);
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // Help and version print to stdout and exit 0; real parse errors are one line, exit 2.
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::fprintf(stderr, "hribench: %s\n", e.what());
+    return 2;
+  }
+  core::set_log_level(log_level);
+  for (CLI::App* sub : app.get_subcommands()) return runners.at(sub)();
+  return 2;
+}
+
+}  // namespace
+}  // namespace hribench::cli
+
+int main(int argc, char** argv) {
+  try {
+    return hribench::cli::run(argc, argv);
+  } catch (const hribench::core::InputError& e) {
+    std::fprintf(stderr, "hribench: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hribench: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,50 @@
+#include "core/errors.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <utility>
+
+namespace hribench::core {
+
+InputError::InputError(std::string where, std::string expected, std::string got)
+    : InputError(where, expected, got,
+                 where + ": expected " + expected + ", got " + got) {}
+
+InputError::InputError(std::string where, std::string expected, std::string got,
+                       std::string what)
+    : std::runtime_error(std::move(what)),
+      where_(std::move(where)),
+      expected_(std::move(expected)),
+      got_(std::move(got)) {}
+
+InputError InputError::Message(std::string where, std::string message) {
+  std::string what = where + ": " + message;
+  return InputError(std::move(where), "", std::move(message), std::move(what));
+}
+
+std::string_view to_string(EpisodeStatus status) {
+  switch (status) {
+    case EpisodeStatus::kOk:
+      return "ok";
+    case EpisodeStatus::kInvalid:
+      return "invalid";
+    case EpisodeStatus::kPolicyError:
+      return "policy_error";
+  }
+  return "unknown";
+}
+
+namespace internal {
+
+CheckFailure::CheckFailure(const char* file, int line, const char* condition) {
+  stream_ << file << ":" << line << ": check failed: " << condition << " ";
+}
+
+CheckFailure::~CheckFailure() {
+  std::fprintf(stderr, "%s\n", stream_.str().c_str());
+  std::fflush(stderr);
+  std::abort();
+}
+
+}  // namespace internal
+}  // namespace hribench::core
