@@ -1,0 +1,79 @@
+#include "human/skeleton.h"
+
+#include <gtest/gtest.h>
+
+#include "core/errors.h"
+
+namespace hribench::human {
+namespace {
+
+TEST(SkeletonTest, NamesAndParentsFollowSmpl) {
+  EXPECT_EQ(joint_name(Joint::kPelvis), "pelvis");
+  EXPECT_EQ(joint_name(Joint::kRightWrist), "right_wrist");
+  EXPECT_EQ(joint_from_name("left_elbow"), Joint::kLeftElbow);
+  EXPECT_FALSE(joint_from_name("tail").has_value());
+  EXPECT_FALSE(parent(Joint::kPelvis).has_value());
+  EXPECT_EQ(parent(Joint::kHead), Joint::kNeck);
+  EXPECT_EQ(parent(Joint::kLeftShoulder), Joint::kLeftCollar);
+  for (int j = 1; j < kNumJoints; ++j) EXPECT_LT(index(*parent(static_cast<Joint>(j))), j);
+}
+
+TEST(SkeletonTest, RestPoseStandsOnTheFloorAtTheRequestedHeight) {
+  for (const double height : {1.55, 1.75, 1.95}) {
+    const Skeleton k = Skeleton::FromHeight(height);
+    const auto X = forward_kinematics(k, SkeletonPose::Standing(k, 0, 0, 0));
+    // Soles on the floor: ankle joints at the ankle height above z = 0.
+    EXPECT_NEAR(X[index(Joint::kLeftAnkle)].translation.z(), 0.06 * k.scale, 1e-9);
+    // Crown at the standing height.
+    EXPECT_NEAR(X[index(Joint::kNeck)].translation.z() + k.crown_above_neck, height, 1e-9);
+    // Arms hang down: wrist below elbow below shoulder.
+    EXPECT_LT(X[index(Joint::kLeftWrist)].translation.z(), X[index(Joint::kLeftElbow)].translation.z());
+    EXPECT_GT(X[index(Joint::kLeftWrist)].translation.y(), 0.1);  // left is +y
+  }
+}
+
+TEST(SkeletonTest, BoneLengthsScaleWithHeight) {
+  const Skeleton a = Skeleton::FromHeight(1.70);
+  const Skeleton b = Skeleton::FromHeight(1.70 * 1.1);
+  EXPECT_NEAR(a.bone_length(Joint::kLeftElbow) / a.scale, 0.260, 1e-12);  // upper arm, HumanML3D
+  for (int j = 1; j < kNumJoints; ++j) {
+    EXPECT_NEAR(b.bone_length(static_cast<Joint>(j)), 1.1 * a.bone_length(static_cast<Joint>(j)), 1e-12);
+  }
+}
+
+TEST(SkeletonTest, ForwardKinematicsPreservesBoneLengthsUnderRotation) {
+  const Skeleton k = Skeleton::FromHeight(1.8);
+  SkeletonPose pose = SkeletonPose::Standing(k, 1.5, 0.2, core::kPi);
+  pose.local[index(Joint::kRightShoulder)] = core::axis_angle(core::Vec3(0.3, 1, 0.2), 1.1);
+  pose.local[index(Joint::kRightElbow)] = core::axis_angle(core::Vec3::UnitY(), -1.2);
+  pose.local[index(Joint::kSpine2)] = core::axis_angle(core::Vec3::UnitY(), 0.4);
+  const auto X = forward_kinematics(k, pose);
+  for (int j = 1; j < kNumJoints; ++j) {
+    const auto p = static_cast<size_t>(index(*parent(static_cast<Joint>(j))));
+    EXPECT_NEAR((X[static_cast<size_t>(j)].translation - X[p].translation).norm(),
+                k.bone_length(static_cast<Joint>(j)), 1e-12);
+  }
+  // Facing -x (yaw pi): the person's left is world -y.
+  EXPECT_LT(X[index(Joint::kLeftHip)].translation.y(), 0.2);
+}
+
+TEST(SkeletonTest, RejectsImpossibleHeights) {
+  EXPECT_THROW(Skeleton::FromHeight(0.3), core::InputError);
+  EXPECT_THROW(Skeleton::FromHeight(std::nan("")), core::InputError);
+}
+
+TEST(SkeletonTest, CapsuleBodyCoversEveryRegion) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  const auto capsules = body_capsules(k);
+  std::array<int, kNumBodyRegions> per_region{};
+  for (const BodyCapsule& c : capsules) {
+    EXPECT_GT(c.radius, 0.0);
+    ++per_region[static_cast<size_t>(c.region)];
+  }
+  for (int r = 0; r < kNumBodyRegions; ++r) EXPECT_GT(per_region[static_cast<size_t>(r)], 0) << r;
+  EXPECT_EQ(quasi_static_force_limit(BodyRegion::kHand), 140);
+  EXPECT_EQ(to_string(BodyRegion::kUpperArm), "upper_arm");
+}
+
+}  // namespace
+}  // namespace hribench::human
