@@ -1,5 +1,6 @@
 // hribench: the command-line entry point. Subcommands live in src/cli/*_command.cc.
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <functional>
@@ -30,9 +31,25 @@ int run(int argc, char** argv) {
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off");
 
   std::map<CLI::App*, std::function<int()>> runners;
+  std::string names;
   for (const Command& command : registry()) {
     CLI::App* sub = app.add_subcommand(command.name, command.help);
     runners[sub] = command.setup(*sub);
+    names += (names.empty() ? "" : ", ") + command.name;
+  }
+  // The first word that is not an option names the command; say so when it names none.
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.starts_with("-")) {
+      if (word == "--log-level") ++i;  // skip its value
+      continue;
+    }
+    const auto& commands = registry();
+    if (std::none_of(commands.begin(), commands.end(),
+                     [&](const Command& c) { return c.name == word; })) {
+      throw core::InputError("hribench", "a command (" + names + ")", "'" + word + "'");
+    }
+    break;
   }
   try {
     app.parse(argc, argv);

@@ -1,0 +1,41 @@
+#pragma once
+// Runs a shell command line and captures its exit code and output, for tests of the
+// `hribench` command (HRIBENCH_BINARY is its path; tests run from the repository root).
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <string>
+
+namespace hribench::testing {
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+// Runs `args` (already shell-quoted) as arguments of the hribench binary.
+inline CommandResult run_hribench(const std::string& args) {
+  const std::string command = std::string(HRIBENCH_BINARY) + " " + args + " 2>&1";
+  CommandResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return result;
+  std::array<char, 4096> buffer{};
+  size_t n = 0;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+// Number of lines in `text` (a trailing newline does not start a new line).
+inline int count_lines(const std::string& text) {
+  int lines = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\n' || i + 1 == text.size()) ++lines;
+  }
+  return lines;
+}
+
+}  // namespace hribench::testing
