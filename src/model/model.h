@@ -1,0 +1,241 @@
+#pragma once
+// The world as an immutable MuJoCo model: a Franka Panda with the Franka Hand on a table,
+// graspable objects, and a kinematic human body (one mocap body per skeleton joint carrying
+// capsules). Built from a plain SceneSpec by generating MJCF text in C++ and loading it through
+// MuJoCo 2.2.2's virtual file system (no files are read or written).
+//
+// World frame W (core/math.h): z up, floor at z = 0, x from the robot base toward the human,
+// y to the robot's left. The robot base frame B is on the table top at (0, 0, table_top_z):
+// X_WB = translation (0, 0, 0.75). The table spans x in [table_x_min, table_x_max] and
+// y in [-table_width/2, table_width/2]; its top is at z = table_top_z.
+//
+// A Model is immutable after build() and may be shared read-only between threads; all state
+// lives in sim::Data (sim/data.h).
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <mujoco/mujoco.h>
+
+#include "core/math.h"
+#include "human/skeleton.h"
+
+namespace hribench::model {
+
+// ---------------------------------------------------------------------------------------------
+// Scene specification (the input of build()).
+
+// Object kinds. Names used in specs: "cube", "cup", "bottle", "plate", "bin", "tray", "box"
+// (a box with a hinged lid), "plank".
+enum class ObjectKind { kCube, kCup, kBottle, kPlate, kBin, kTray, kBox, kPlank };
+inline constexpr int kNumObjectKinds = 8;
+std::string_view to_string(ObjectKind kind);
+std::optional<ObjectKind> object_kind_from_name(std::string_view name);
+
+// RGBA colour, components in [0, 1].
+struct Rgba {
+  float r = 0, g = 0, b = 0, a = 1;
+};
+// Named colours: "red", "green", "blue", "yellow", "orange", "purple", "cyan", "magenta",
+// "white", "black", "grey", "brown", "pink".
+std::optional<Rgba> colour_from_name(std::string_view name);
+// All colour names accepted by colour_from_name, in a fixed order.
+const std::vector<std::string_view>& colour_names();
+
+// One object of the scene. Every object is a free body (freejoint); the box's lid is a hinged
+// child body of the box.
+struct ObjectSpec {
+  std::string kind = "cube";  // see ObjectKind; anything else is an InputError
+  std::string name;           // unique among objects; [A-Za-z0-9_]+; default: "<kind><index>"
+  std::string colour = "red"; // see colour_from_name
+  // Position of the object's footprint centre on the table top (world frame, m) and its yaw
+  // about +z (rad). The object rests on the table (its bottom at table_top_z). The footprint
+  // must lie inside the table top. Ignored when held_by is set.
+  double x = 0.5;
+  double y = 0.0;
+  double yaw = 0.0;
+  // Scale of the object's nominal dimensions, in [0.5, 2] (1 = nominal sizes; see
+  // ObjectInfo::half_extents).
+  double size_scale = 1.0;
+  // If set, the object starts in this human hand (held, see sim::hold) instead of on the table.
+  std::optional<human::Side> held_by;
+};
+
+struct HumanSpec {
+  bool present = true;       // false: no human body in the model
+  double height = 1.75;      // standing height, m, in [1.0, 2.5] (tasks use 1.55-1.95)
+  // Standing position of the pelvis projected on the floor (world, m) and facing yaw about +z
+  // (rad; pi = facing -x, i.e. toward the robot). Default: at the far table edge.
+  double x = 1.45;
+  double y = 0.0;
+  double yaw = core::kPi;
+  human::Side handedness = human::Side::kRight;
+};
+
+struct SceneSpec {
+  std::vector<ObjectSpec> objects;
+  HumanSpec human;
+  // Light intensity multiplier in [0.2, 2] (lighting variation axis).
+  double light_intensity = 1.0;
+
+  // A default scene: Panda, table, a red cube, a green cup, a blue bin, and a human standing
+  // at the far edge facing the robot.
+  static SceneSpec Default();
+};
+
+// ---------------------------------------------------------------------------------------------
+// Fixed scene geometry (the scene convention of TASKS.md).
+
+inline constexpr double kTableTopZ = 0.75;      // m
+inline constexpr double kTableXMin = -0.15;     // near edge (robot side), m
+inline constexpr double kTableXMax = 1.05;      // far edge (human side), m
+inline constexpr double kTableWidth = 1.0;      // along y, m
+inline constexpr double kTimestep = 0.002;      // s (500 Hz physics)
+
+// ---------------------------------------------------------------------------------------------
+// Robot constants (reference/robots.md, Franka Panda).
+
+inline constexpr int kArmDof = 7;
+inline constexpr std::array<double, kArmDof> kArmQMin = {-2.8973, -1.7628, -2.8973, -3.0718,
+                                                          -2.8973, -0.0175, -2.8973};
+inline constexpr std::array<double, kArmDof> kArmQMax = {2.8973, 1.7628, 2.8973, -0.0698,
+                                                          2.8973, 3.7525, 2.8973};
+inline constexpr std::array<double, kArmDof> kArmQdMax = {2.175, 2.175, 2.175, 2.175,
+                                                           2.61,  2.61,  2.61};
+inline constexpr std::array<double, kArmDof> kArmTauMax = {87, 87, 87, 87, 12, 12, 12};
+// Home configuration (arm joints, rad).
+inline constexpr std::array<double, kArmDof> kArmHome = {0, 0, 0, -1.57079, 0, 1.57079, -0.7853};
+inline constexpr double kFingerMax = 0.04;      // each finger's travel, m (opening 0..0.08)
+inline constexpr double kGripperMaxWidth = 0.08;
+inline constexpr double kGripperForceMax = 100; // N, per finger actuator force limit
+inline constexpr double kFlangeLength = 0.107;  // link7 -> flange along z7, m
+inline constexpr double kTcpOffset = 0.1034;    // hand frame -> TCP along z_hand, m
+
+// ---------------------------------------------------------------------------------------------
+// Geom tags: who every geom of the model belongs to.
+
+enum class GeomOwner {
+  kOther,        // e.g. decorative geoms
+  kFloor,
+  kTable,
+  kRobotLink,    // index = link number 0..7 (link0 = base)
+  kRobotHand,    // the Franka Hand body (palm housing)
+  kRobotFinger,  // index = 0 (left finger) or 1 (right finger); includes the finger pads
+  kHuman,        // index = capsule index in Model::human_capsules; region/joint set
+  kObject,       // index = object index in Model::objects
+  kPlatform,     // a raised platform, if any
+};
+std::string_view to_string(GeomOwner owner);
+
+struct GeomTag {
+  GeomOwner owner = GeomOwner::kOther;
+  int index = -1;  // meaning depends on owner (see GeomOwner); -1 when none
+  human::BodyRegion region = human::BodyRegion::kTorso;  // meaningful only for kHuman
+  human::Joint joint = human::Joint::kPelvis;             // meaningful only for kHuman
+  bool is_robot() const {
+    return owner == GeomOwner::kRobotLink || owner == GeomOwner::kRobotHand ||
+           owner == GeomOwner::kRobotFinger;
+  }
+  bool is_human() const { return owner == GeomOwner::kHuman; }
+};
+
+// ---------------------------------------------------------------------------------------------
+// The built model.
+
+struct MjModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+
+struct ObjectInfo {
+  std::string name;
+  ObjectKind kind = ObjectKind::kCube;
+  Rgba rgba;
+  int body = -1;       // MuJoCo body id of the object's root (free) body
+  int qpos_adr = -1;   // freejoint qpos address (7: position, quaternion w x y z)
+  int dof_adr = -1;    // freejoint dof address (6: linear world velocity, angular body-frame)
+  double mass = 0;     // total mass including children (kg)
+  // Half extents of the object's bounding box in its body frame (m). The body frame origin is
+  // at the centre of the footprint on the bottom face (z up), so the object occupies
+  // [-hx, hx] x [-hy, hy] x [0, 2 hz].
+  core::Vec3 half_extents = core::Vec3::Zero();
+  // Pose of the object body in world at reset (on the table, or in the hand if held_by).
+  core::Pose X_W_start;
+  std::optional<human::Side> held_by;  // from the spec
+  int lid_body = -1;   // kBox only: the lid body, else -1
+  int lid_joint = -1;  // kBox only: the lid hinge joint id (0 = closed), else -1
+};
+
+struct Model {
+  SceneSpec spec;                               // the spec it was built from
+  std::unique_ptr<mjModel, MjModelDeleter> mj;  // never null after build()
+  std::string mjcf;                             // the generated MJCF text (for inspection)
+
+  const mjModel* m() const { return mj.get(); }
+
+  // Robot ids and addresses. Arm joints are named "panda_joint1".."panda_joint7".
+  std::array<int, kArmDof> arm_joint{};     // joint ids
+  std::array<int, kArmDof> arm_qpos_adr{};  // qpos addresses
+  std::array<int, kArmDof> arm_dof_adr{};   // dof addresses
+  std::array<int, kArmDof> arm_actuator{};  // position-servo actuator ids (ctrl = target, rad)
+  std::array<int, 8> link_body{};           // link0..link7 body ids
+  std::array<int, 2> finger_joint{};        // left/right finger slide joints (0..0.04 m)
+  std::array<int, 2> finger_qpos_adr{};
+  std::array<int, 2> finger_dof_adr{};
+  std::array<int, 2> finger_body{};
+  int gripper_actuator = -1;  // ctrl = target opening width in m (0..0.08), force-limited
+  int hand_body = -1;         // the Franka Hand body (hand frame = body frame)
+  int flange_site = -1;       // site at the flange (link7 frame translated 0.107 m along z7)
+  int tcp_site = -1;          // site at the TCP: hand frame + 0.1034 m along z_hand
+  core::Pose X_WB;            // robot base pose in world
+
+  // Cameras (MuJoCo camera ids): "agentview" (front/above, fixed) and "wrist" (on the hand,
+  // looking along the fingers).
+  int agentview_camera = -1;
+  int wrist_camera = -1;
+
+  // Human (present only if spec.human.present; otherwise the ids are -1 and vectors empty).
+  bool has_human = false;
+  human::Skeleton skeleton;                       // scaled from spec.human.height
+  std::vector<human::BodyCapsule> human_capsules; // capsule i <-> geom human_capsule_geom[i]
+  std::vector<int> human_capsule_geom;            // geom id of each capsule
+  std::array<int, human::kNumJoints> human_body{};   // body id per joint (-1 if absent)
+  std::array<int, human::kNumJoints> human_mocap{};  // mocap index per joint (-1 if absent)
+  human::SkeletonPose human_start;                // pose at reset (standing at spec position)
+  // Palm frame of each hand (index by static_cast<int>(Side)), relative to the wrist joint
+  // frame: origin at the palm centre (palm_distance along -z of the wrist frame at rest), z
+  // axis along the palm normal (pointing out of the palm: -y for the left hand, +y for the
+  // right hand, i.e. toward the body's midline at rest), x along the fingers.
+  std::array<core::Pose, 2> X_wrist_palm;
+
+  // Objects, in spec order.
+  std::vector<ObjectInfo> objects;
+  // Object index by name, or -1.
+  int object_index(std::string_view name) const;
+
+  // One tag per geom (size m()->ngeom).
+  std::vector<GeomTag> geom_tags;
+
+  // Fixed geoms.
+  int table_geom = -1;
+  int floor_geom = -1;
+
+  Model() = default;
+  Model(Model&&) = default;
+  Model& operator=(Model&&) = default;
+  Model(const Model&) = delete;
+  Model& operator=(const Model&) = delete;
+};
+
+// Builds the model. Throws core::InputError on a bad spec (unknown object kind or colour,
+// duplicate or malformed name, object off the table, bad size_scale/height/light) or if MuJoCo
+// rejects the generated MJCF (a bug: the message carries MuJoCo's error).
+Model build(const SceneSpec& spec);
+
+// The MJCF text that build() would load (for inspection and tests); throws like build().
+std::string to_mjcf(const SceneSpec& spec);
+
+}  // namespace hribench::model
