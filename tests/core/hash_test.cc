@@ -1,0 +1,32 @@
+#include "core/hash.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace hribench::core {
+namespace {
+
+// FIPS 180-4 / NIST CAVP example vectors.
+TEST(Sha256Test, KnownVectors) {
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+}
+
+TEST(Sha256Test, MillionA) {
+  EXPECT_EQ(sha256_hex(std::string(1000000, 'a')),
+            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+}
+
+// Lengths around the padding boundary (55, 56, 64 bytes) must differ and be stable.
+TEST(Sha256Test, PaddingBoundaries) {
+  EXPECT_EQ(sha256_hex(std::string(64, 'a')),
+            "ffe054fe7ae0cb6dc65c3af9b61d5209f439851db43d0ba5997337df154668eb");
+  EXPECT_NE(sha256_hex(std::string(55, 'a')), sha256_hex(std::string(56, 'a')));
+  EXPECT_EQ(to_hex(sha256("abc")).size(), 64U);
+}
+
+}  // namespace
+}  // namespace hribench::core
