@@ -1,0 +1,147 @@
+#include "policy/registry.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <mutex>
+
+#include "core/errors.h"
+#include "policy/builtin.h"
+
+namespace hribench::policy {
+namespace {
+
+std::map<std::string, PolicyEntry> make_builtins() {
+  std::map<std::string, PolicyEntry> entries;
+  entries["noop"] = PolicyEntry{
+      "noop", "holds the robot still (options: space=ee_delta|joint_pos)", [](PolicyRef ref) {
+        const ActionSpace space = action_space_from_string(
+            take_option(ref, "space", "ee_delta"), "policy noop: space");
+        reject_unknown_options(ref);
+        return std::unique_ptr<Policy>(new NoopPolicy(space));
+      }};
+  entries["random"] = PolicyEntry{
+      "random",
+      "uniform random actions (options: seed=INT, scale=(0,1], chunk=INT, "
+      "space=ee_delta|joint_pos)",
+      [](PolicyRef ref) {
+        const ActionSpace space = action_space_from_string(
+            take_option(ref, "space", "ee_delta"), "policy random: space");
+        const double seed = take_option(ref, "seed", 0.0);
+        const double scale = take_option(ref, "scale", 1.0);
+        const double chunk = take_option(ref, "chunk", 1.0);
+        reject_unknown_options(ref);
+        if (seed < 0 || seed != static_cast<double>(static_cast<uint64_t>(seed))) {
+          throw core::InputError("policy random: seed", "a non-negative integer",
+                                 std::to_string(seed));
+        }
+        return std::unique_ptr<Policy>(new RandomPolicy(space, static_cast<uint64_t>(seed),
+                                                        scale, ActionLimits{},
+                                                        static_cast<int>(chunk)));
+      }};
+  return entries;
+}
+
+struct Registry {
+  std::mutex mutex;
+  std::map<std::string, PolicyEntry> entries = make_builtins();
+};
+
+Registry& registry() {
+  static Registry r;
+  return r;
+}
+
+}  // namespace
+
+PolicyRef parse_policy_ref(std::string_view text) {
+  PolicyRef ref;
+  std::string_view rest = text;
+  const size_t q = rest.find('?');
+  const std::string_view head = rest.substr(0, q);
+  const size_t scheme_end = head.find("://");
+  if (scheme_end != std::string_view::npos) {
+    ref.name = std::string(head.substr(0, scheme_end));
+    ref.address = std::string(head.substr(scheme_end + 3));
+  } else {
+    ref.name = std::string(head);
+  }
+  if (ref.name.empty()) {
+    throw core::InputError("policy", "a policy name (e.g. noop, random)", "'" + std::string(text) + "'");
+  }
+  if (q == std::string_view::npos) return ref;
+  // Options: k=v pairs separated by '&'.
+  std::string_view options = rest.substr(q + 1);
+  while (!options.empty()) {
+    const size_t amp = options.find('&');
+    const std::string_view pair = options.substr(0, amp);
+    const size_t eq = pair.find('=');
+    if (eq == std::string_view::npos || eq == 0) {
+      throw core::InputError("policy " + ref.name, "options as key=value",
+                             "'" + std::string(pair) + "'");
+    }
+    ref.options[std::string(pair.substr(0, eq))] = std::string(pair.substr(eq + 1));
+    options = amp == std::string_view::npos ? std::string_view() : options.substr(amp + 1);
+  }
+  return ref;
+}
+
+std::string take_option(PolicyRef& ref, const std::string& key, const std::string& fallback) {
+  const auto it = ref.options.find(key);
+  if (it == ref.options.end()) return fallback;
+  std::string value = it->second;
+  ref.options.erase(it);
+  return value;
+}
+
+double take_option(PolicyRef& ref, const std::string& key, double fallback) {
+  const auto it = ref.options.find(key);
+  if (it == ref.options.end()) return fallback;
+  const std::string value = it->second;
+  ref.options.erase(it);
+  char* end = nullptr;
+  const double number = std::strtod(value.c_str(), &end);
+  if (value.empty() || end != value.c_str() + value.size()) {
+    throw core::InputError("policy " + ref.name + ": " + key, "a number", "'" + value + "'");
+  }
+  return number;
+}
+
+void reject_unknown_options(const PolicyRef& ref) {
+  if (ref.options.empty()) return;
+  throw core::InputError("policy " + ref.name, "a known option",
+                         "'" + ref.options.begin()->first + "'");
+}
+
+void register_policy(PolicyEntry entry) {
+  Registry& r = registry();
+  std::lock_guard lock(r.mutex);
+  std::string name = entry.name;
+  r.entries[name] = std::move(entry);
+}
+
+std::vector<std::string> policy_names() {
+  Registry& r = registry();
+  std::lock_guard lock(r.mutex);
+  std::vector<std::string> names;
+  for (const auto& [name, entry] : r.entries) names.push_back(name);
+  return names;
+}
+
+std::unique_ptr<Policy> make_policy(std::string_view reference) {
+  PolicyRef ref = parse_policy_ref(reference);
+  PolicyFactory factory;
+  {
+    Registry& r = registry();
+    std::lock_guard lock(r.mutex);
+    const auto it = r.entries.find(ref.name);
+    if (it != r.entries.end()) factory = it->second.make;
+  }
+  if (!factory) {
+    std::string known;
+    for (const std::string& name : policy_names()) known += (known.empty() ? "" : ", ") + name;
+    throw core::InputError("policy", "one of " + known, "'" + ref.name + "'");
+  }
+  return factory(std::move(ref));
+}
+
+}  // namespace hribench::policy

@@ -1,0 +1,72 @@
+#include "policy/builtin.h"
+
+#include <gtest/gtest.h>
+
+#include "core/errors.h"
+
+namespace hribench::policy {
+namespace {
+
+Observation observation_at(double t) {
+  Observation obs;
+  obs.time = t;
+  obs.proprio.joint_pos = {0.1, -0.3, 0.0, -2.0, 0.0, 1.8, 0.7};
+  obs.proprio.gripper_width = 0.04;
+  return obs;
+}
+
+TEST(NoopPolicy, HoldsTheRobot) {
+  NoopPolicy ee(ActionSpace::kEeDelta);
+  ee.reset(EpisodeInfo{});
+  const ActionChunk a = ee.act(observation_at(0));
+  ASSERT_EQ(a.actions.size(), 1u);
+  EXPECT_EQ(a.actions[0], (Action{0, 0, 0, 0, 0, 0, 0.5}));
+  NoopPolicy joints(ActionSpace::kJointPos);
+  const ActionChunk b = joints.act(observation_at(0));
+  EXPECT_EQ(b.actions[0], (Action{0.1, -0.3, 0.0, -2.0, 0.0, 1.8, 0.7, 0.5}));
+  EXPECT_NO_THROW(validate_chunk(b, ActionSpace::kJointPos, ActionLimits{}));
+  EXPECT_FALSE(joints.spec().state_track);
+  EXPECT_TRUE(joints.spec().cameras.empty());
+}
+
+TEST(RandomPolicy, SeededDeterministicAndValid) {
+  RandomPolicy p(ActionSpace::kJointPos, 7, 0.5, ActionLimits{}, 4);
+  RandomPolicy q(ActionSpace::kJointPos, 7, 0.5, ActionLimits{}, 4);
+  EpisodeInfo info;
+  info.seed = 11;
+  p.reset(info);
+  q.reset(info);
+  const ActionChunk a = p.act(observation_at(0));
+  EXPECT_EQ(a.actions.size(), 4u);
+  EXPECT_EQ(a.actions, q.act(observation_at(0)).actions);
+  EXPECT_NO_THROW(validate_chunk(a, ActionSpace::kJointPos, ActionLimits{}));
+  // Reset restarts the stream; another episode seed gives other actions.
+  p.reset(info);
+  EXPECT_EQ(p.act(observation_at(0)).actions, a.actions);
+  info.seed = 12;
+  p.reset(info);
+  EXPECT_NE(p.act(observation_at(0)).actions, a.actions);
+}
+
+TEST(RandomPolicy, EeDeltaWithinScaledLimits) {
+  RandomPolicy p(ActionSpace::kEeDelta, 1, 0.5);
+  p.reset(EpisodeInfo{});
+  for (int i = 0; i < 50; ++i) {
+    const ActionChunk a = p.act(observation_at(0.05 * i));
+    for (size_t j = 0; j < 3; ++j) EXPECT_LE(std::abs(a.actions[0][j]), 0.025);
+    EXPECT_NO_THROW(validate_chunk(a, ActionSpace::kEeDelta, ActionLimits{}));
+  }
+}
+
+TEST(RandomPolicy, RejectsBadOptions) {
+  try {
+    RandomPolicy(ActionSpace::kEeDelta, 1, 0.0);
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "policy random: scale: expected a number in (0, 1], got 0.000000");
+  }
+  EXPECT_THROW(RandomPolicy(ActionSpace::kEeDelta, 1, 1.0, ActionLimits{}, 0), core::InputError);
+}
+
+}  // namespace
+}  // namespace hribench::policy

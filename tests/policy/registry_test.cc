@@ -1,0 +1,72 @@
+#include "policy/registry.h"
+
+#include <gtest/gtest.h>
+
+#include "core/errors.h"
+#include "policy/builtin.h"
+
+namespace hribench::policy {
+namespace {
+
+TEST(PolicyRef, ParsesNamesSchemesAndOptions) {
+  PolicyRef a = parse_policy_ref("random?seed=3&space=joint_pos");
+  EXPECT_EQ(a.name, "random");
+  EXPECT_EQ(a.address, "");
+  EXPECT_EQ(a.options.at("seed"), "3");
+  EXPECT_EQ(a.options.at("space"), "joint_pos");
+  PolicyRef b = parse_policy_ref("openpi://localhost:8000?replan=5");
+  EXPECT_EQ(b.name, "openpi");
+  EXPECT_EQ(b.address, "localhost:8000");
+  EXPECT_EQ(b.options.at("replan"), "5");
+  try {
+    parse_policy_ref("random?seed");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "policy random: expected options as key=value, got 'seed'");
+  }
+  EXPECT_THROW(parse_policy_ref(""), core::InputError);
+}
+
+TEST(Registry, BuiltinsByName) {
+  const std::vector<std::string> names = policy_names();
+  EXPECT_NE(std::find(names.begin(), names.end(), "noop"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "random"), names.end());
+  auto noop = make_policy("noop?space=joint_pos");
+  EXPECT_EQ(noop->spec().action_space, ActionSpace::kJointPos);
+  auto random = make_policy("random?seed=4&chunk=3");
+  EXPECT_EQ(random->spec().replan_every, 3);
+}
+
+TEST(Registry, BadReferencesAreInputErrors) {
+  try {
+    make_policy("oracle2");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("policy: expected one of "), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("noop"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("got 'oracle2'"), std::string::npos);
+  }
+  try {
+    make_policy("noop?speed=2");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "policy noop: expected a known option, got 'speed'");
+  }
+  try {
+    make_policy("random?seed=x");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "policy random: seed: expected a number, got 'x'");
+  }
+}
+
+TEST(Registry, LaterLayersRegisterTheirOwn) {
+  register_policy(PolicyEntry{"test_hold", "test", [](PolicyRef ref) {
+                                reject_unknown_options(ref);
+                                return std::unique_ptr<Policy>(new NoopPolicy());
+                              }});
+  EXPECT_NE(make_policy("test_hold"), nullptr);
+}
+
+}  // namespace
+}  // namespace hribench::policy
