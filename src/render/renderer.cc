@@ -1,0 +1,208 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "core/errors.h"
+
+namespace hribench::render {
+
+RenderSettings RenderSettings::mujoco_defaults() {
+  RenderSettings s;
+  s.shadows = true;
+  s.reflections = true;
+  s.skybox = true;
+  s.multisamples = 4;
+  return s;
+}
+
+namespace {
+
+// MuJoCo reports fatal errors through mju_user_error; its default prints and exits the
+// process. While a GL context is being made we turn them into exceptions (one clear line).
+class ThrowingMujocoErrors {
+ public:
+  ThrowingMujocoErrors() : previous_(mju_user_error) { mju_user_error = &raise; }
+  ~ThrowingMujocoErrors() { mju_user_error = previous_; }
+  ThrowingMujocoErrors(const ThrowingMujocoErrors&) = delete;
+  ThrowingMujocoErrors& operator=(const ThrowingMujocoErrors&) = delete;
+
+ private:
+  static void raise(const char* message) { throw std::runtime_error(message); }
+  void (*previous_)(const char*);
+};
+
+void check_side(std::string_view where, int pixels) {
+  if (pixels < 1 || pixels > kMaxImageSide) {
+    throw core::InputError(std::string(where),
+                           "an image side in [1, " + std::to_string(kMaxImageSide) + "] pixels",
+                           std::to_string(pixels));
+  }
+}
+
+// Room for everything mjv_updateScene may add with default options (geoms, sites, tendon
+// segments, lights' decor), so it never raises mjWARN_VGEOMFULL into the caller's mjData.
+int scene_capacity(const mjModel& m) {
+  return m.ngeom + m.nsite + 16 * m.ntendon + m.nbody + m.nlight + 100;
+}
+
+// GL rows run bottom-up; images run top-down.
+template <typename T>
+void flip_rows(T* data, int width, int height, int channels) {
+  const size_t row = static_cast<size_t>(width) * static_cast<size_t>(channels);
+  for (int top = 0, bottom = height - 1; top < bottom; ++top, --bottom) {
+    std::swap_ranges(data + static_cast<size_t>(top) * row,
+                     data + static_cast<size_t>(top + 1) * row,
+                     data + static_cast<size_t>(bottom) * row);
+  }
+}
+
+}  // namespace
+
+Renderer::Renderer(Backend backend, const mjModel& m, int width, int height,
+                   RenderSettings settings)
+    : backend_(backend), width_(width), height_(height), settings_(settings) {
+  check_side("width", width);
+  check_side("height", height);
+  HRIB_CHECK(settings.multisamples >= 0 && settings.shadow_map_size >= 0)
+      << "multisamples " << settings.multisamples << ", shadow map " << settings.shadow_map_size;
+  mjv_defaultOption(&option_);
+  mjv_defaultCamera(&camera_);
+  mjv_defaultScene(&scene_);
+  mjr_defaultContext(&context_);
+  if (backend == Backend::kNone) {
+    gl_renderer_ = "none";
+    return;
+  }
+  gl_ = make_gl_context(backend);
+  gl_renderer_ = gl_->gl_renderer();
+
+  // The context is made from a shallow copy of the model whose visual settings size the
+  // offscreen buffer to exactly this image and apply our render settings.
+  mjModel sized = m;
+  sized.vis.global.offwidth = width;
+  sized.vis.global.offheight = height;
+  sized.vis.quality.offsamples = settings.multisamples;
+  if (settings.shadow_map_size > 0) sized.vis.quality.shadowsize = settings.shadow_map_size;
+  if (!settings.shadows) sized.vis.quality.shadowsize = 1;  // no shadow map memory or cost
+  try {
+    ThrowingMujocoErrors errors;
+    mjv_makeScene(&m, &scene_, scene_capacity(m));
+    mjr_makeContext(&sized, &context_, mjFONTSCALE_50);
+    mjr_setBuffer(mjFB_OFFSCREEN, &context_);
+  } catch (const std::runtime_error& e) {
+    mjr_freeContext(&context_);
+    mjv_freeScene(&scene_);
+    throw core::InputError::Message(std::string(to_string(backend)),
+                                    std::string("no usable GL context: ") + e.what());
+  }
+  if (context_.offWidth < width || context_.offHeight < height) {
+    const std::string got = std::to_string(context_.offWidth) + "x" +
+                            std::to_string(context_.offHeight);
+    mjr_freeContext(&context_);
+    mjv_freeScene(&scene_);
+    throw core::InputError(std::string(to_string(backend)),
+                           "an offscreen buffer of " + std::to_string(width) + "x" +
+                               std::to_string(height),
+                           got);
+  }
+  scene_.flags[mjRND_SHADOW] = settings.shadows ? 1 : 0;
+  scene_.flags[mjRND_REFLECTION] = settings.reflections ? 1 : 0;
+  scene_.flags[mjRND_SKYBOX] = settings.skybox ? 1 : 0;
+}
+
+Renderer::~Renderer() {
+  if (gl_ == nullptr) return;
+  gl_->make_current();
+  mjr_freeContext(&context_);
+  mjv_freeScene(&scene_);
+}
+
+void Renderer::make_current() {
+  if (gl_ != nullptr) gl_->make_current();
+}
+
+void Renderer::draw(const mjModel& m, const mjData& d, const mjvCamera& camera) {
+  gl_->make_current();
+  camera_ = camera;
+  // mjv_updateScene takes mjData* but only reads it (it could set a warning; see capacity).
+  mjv_updateScene(&m, const_cast<mjData*>(&d), &option_, nullptr, &camera_, mjCAT_ALL, &scene_);
+  mjr_render(mjrRect{0, 0, width_, height_}, &scene_, &context_);
+}
+
+bool Renderer::render(const mjModel& m, const mjData& d, int camera_id, Image& out) {
+  HRIB_CHECK(camera_id >= 0 && camera_id < m.ncam) << "camera id " << camera_id << " of "
+                                                   << m.ncam;
+  mjvCamera camera;
+  mjv_defaultCamera(&camera);
+  camera.type = mjCAMERA_FIXED;
+  camera.fixedcamid = camera_id;
+  return render(m, d, camera, out);
+}
+
+bool Renderer::render(const mjModel& m, const mjData& d, const mjvCamera& camera, Image& out) {
+  if (gl_ == nullptr) {
+    out.resize(0, 0);
+    return false;
+  }
+  draw(m, d, camera);
+  out.resize(width_, height_);
+  mjr_readPixels(out.rgb.data(), nullptr, mjrRect{0, 0, width_, height_}, &context_);
+  flip_rows(out.rgb.data(), width_, height_, 3);
+  return true;
+}
+
+bool Renderer::render_segmentation(const mjModel& m, const mjData& d, int camera_id,
+                                   SegmentationImage& out) {
+  if (gl_ == nullptr) {
+    out.resize(0, 0);
+    return false;
+  }
+  HRIB_CHECK(camera_id >= 0 && camera_id < m.ncam) << "camera id " << camera_id << " of "
+                                                   << m.ncam;
+  mjvCamera camera;
+  mjv_defaultCamera(&camera);
+  camera.type = mjCAMERA_FIXED;
+  camera.fixedcamid = camera_id;
+  // Each scene geom is drawn in the flat colour segid + 1 (background 0).
+  scene_.flags[mjRND_SEGMENT] = 1;
+  scene_.flags[mjRND_IDCOLOR] = 1;
+  draw(m, d, camera);
+  scene_.flags[mjRND_SEGMENT] = 0;
+  scene_.flags[mjRND_IDCOLOR] = 0;
+  segment_rgb_.resize(static_cast<size_t>(width_) * static_cast<size_t>(height_) * 3);
+  mjr_readPixels(segment_rgb_.data(), nullptr, mjrRect{0, 0, width_, height_}, &context_);
+  flip_rows(segment_rgb_.data(), width_, height_, 3);
+  out.resize(width_, height_);
+  for (size_t i = 0; i < out.geom.size(); ++i) {
+    const unsigned char* c = &segment_rgb_[3 * i];
+    const int segid = c[0] + (c[1] << 8) + (c[2] << 16) - 1;
+    int geom = -1;
+    if (segid >= 0 && segid < scene_.ngeom && scene_.geoms[segid].objtype == mjOBJ_GEOM) {
+      geom = scene_.geoms[segid].objid;
+    }
+    out.geom[i] = geom;
+  }
+  return true;
+}
+
+std::unique_ptr<Renderer> make_renderer(Backend backend, const mjModel& m, int width, int height,
+                                        RenderSettings settings) {
+  return std::make_unique<Renderer>(backend, m, width, height, settings);
+}
+
+int camera_id(const mjModel& m, std::string_view name) {
+  const int id = mj_name2id(&m, mjOBJ_CAMERA, std::string(name).c_str());
+  if (id >= 0) return id;
+  std::string names;
+  for (int i = 0; i < m.ncam; ++i) {
+    const char* n = mj_id2name(&m, mjOBJ_CAMERA, i);
+    names += (i > 0 ? ", " : "") + std::string(n != nullptr ? n : "#" + std::to_string(i));
+  }
+  throw core::InputError("camera", m.ncam > 0 ? "one of " + names : "a camera (the model has none)",
+                         "'" + std::string(name) + "'");
+}
+
+}  // namespace hribench::render

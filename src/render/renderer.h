@@ -1,0 +1,102 @@
+#pragma once
+// Camera images of a MuJoCo scene, behind one interface with three back ends:
+//   osmesa — CPU (Mesa llvmpipe through libOSMesa); the default, works everywhere.
+//   egl    — headless GPU through EGL (or Mesa's software EGL device where there is no GPU).
+//   none   — never touches GL; render() returns false and leaves images empty.
+// Images only when asked: nothing is rendered unless render() is called.
+//
+// A Renderer owns one GL context, one mjrContext (offscreen buffer of exactly width x height)
+// and one mjvScene. It renders any mjModel/mjData pair whose mjModel is the one it was made
+// with (textures and meshes are uploaded once at creation). One Renderer per thread at a time:
+// render() makes its context current on the calling thread. A process uses one GL back end
+// (see gl_context.h). Not copyable.
+//
+// Settings are chosen for speed on llvmpipe (docs/rendering.md has the measurements): no
+// shadows, no reflections, no skybox, no multisampling. RenderSettings::mujoco_defaults() gives
+// MuJoCo's own defaults for comparison.
+
+#include <mujoco/mujoco.h>
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "render/gl_context.h"
+#include "render/image.h"
+
+namespace hribench::render {
+
+// Largest image side we accept (pixels); every GL we target supports this offscreen size.
+inline constexpr int kMaxImageSide = 4096;
+
+struct RenderSettings {
+  bool shadows = false;      // mjRND_SHADOW and a shadow map (the big cost on llvmpipe)
+  bool reflections = false;  // mjRND_REFLECTION (reflective materials re-render the scene)
+  bool skybox = false;       // mjRND_SKYBOX; without it the background is the clear colour
+  int multisamples = 0;      // MSAA samples of the offscreen buffer (MuJoCo's default is 4)
+  int shadow_map_size = 0;   // shadow map side when shadows are on; 0: the model's value
+
+  // MuJoCo 2.2.2's defaults (shadows, reflections, skybox, 4x MSAA).
+  static RenderSettings mujoco_defaults();
+};
+
+class Renderer {
+ public:
+  // Throws core::InputError for width/height outside [1, kMaxImageSide] (where "width"/"height")
+  // and "no usable GL context" (see make_gl_context) for osmesa/egl. `m` must outlive nothing:
+  // it is read during construction only.
+  Renderer(Backend backend, const mjModel& m, int width, int height,
+           RenderSettings settings = {});
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  Backend backend() const { return backend_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  const RenderSettings& settings() const { return settings_; }
+  // GL_RENDERER of the context ("none" for the none back end).
+  const std::string& gl_renderer() const { return gl_renderer_; }
+
+  // Renders fixed camera `camera_id` (0 <= id < m.ncam) of state `d` into `out`, resized to
+  // width x height (no allocation when `out` already has that size). Returns false (and
+  // leaves `out` 0x0) for the none back end. `d` is not modified except mjv_updateScene's
+  // bookkeeping of d->warning (never triggered: the scene has room for every geom).
+  bool render(const mjModel& m, const mjData& d, int camera_id, Image& out);
+  // Same with any MuJoCo camera (e.g. a free camera placed for a documentation picture).
+  bool render(const mjModel& m, const mjData& d, const mjvCamera& camera, Image& out);
+  // Segmentation: each pixel's mjModel geom id, -1 for background and non-geom objects.
+  bool render_segmentation(const mjModel& m, const mjData& d, int camera_id,
+                           SegmentationImage& out);
+
+  // Raw MuJoCo objects, for benchmarks that time raw mjv_updateScene + mjr_render +
+  // mjr_readPixels on the very same context. Null/unusable for the none back end.
+  mjvScene& scene() { return scene_; }
+  mjrContext& context() { return context_; }
+  mjvOption& option() { return option_; }
+  void make_current();
+
+ private:
+  void draw(const mjModel& m, const mjData& d, const mjvCamera& camera);
+
+  Backend backend_;
+  int width_;
+  int height_;
+  RenderSettings settings_;
+  std::string gl_renderer_;
+  std::unique_ptr<GlContext> gl_;  // null for kNone
+  mjvScene scene_{};
+  mjrContext context_{};
+  mjvOption option_{};
+  mjvCamera camera_{};
+  std::vector<unsigned char> segment_rgb_;  // scratch for segmentation colours
+};
+
+std::unique_ptr<Renderer> make_renderer(Backend backend, const mjModel& m, int width, int height,
+                                        RenderSettings settings = {});
+
+// The id of camera `name` in `m`. Throws core::InputError("camera", "one of A, B", "'name'").
+int camera_id(const mjModel& m, std::string_view name);
+
+}  // namespace hribench::render

@@ -1,0 +1,199 @@
+// Tests of the Renderer on a small hand-written scene: rows come out top-down, segmentation
+// names the geoms seen, buffers are reused, bad sizes/cameras give clear errors, and the none
+// back end never loads a GL library.
+
+#include "render/renderer.h"
+
+#include <gtest/gtest.h>
+#include <link.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include "core/errors.h"
+
+namespace hribench::render {
+namespace {
+
+// Seen from camera "top" (1.6 m above the origin, looking down; image up = world +y): a red box
+// in the top half of the picture and a blue capsule in the bottom half, on black.
+constexpr char kSceneXml[] = R"(
+<mujoco>
+  <worldbody>
+    <light pos="0 0 4" dir="0 0 -1"/>
+    <camera name="top" pos="0 0 1.6"/>
+    <camera name="side" pos="0 -3 0.3" xyaxes="1 0 0 0 0 1"/>
+    <body name="robot" pos="0 0.3 0">
+      <geom name="robot_box" type="box" size="0.3 0.15 0.1" rgba="1 0 0 1"/>
+    </body>
+    <body name="human" pos="0 -0.3 0" mocap="true">
+      <geom name="human_arm" type="capsule" fromto="-0.3 0 0 0.3 0 0" size="0.12" rgba="0 0 1 1"/>
+    </body>
+  </worldbody>
+</mujoco>)";
+
+struct MjDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+
+class RendererTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    mjVFS vfs;
+    mj_defaultVFS(&vfs);
+    const size_t size = std::strlen(kSceneXml);
+    ASSERT_EQ(mj_makeEmptyFileVFS(&vfs, "scene.xml", static_cast<int>(size)), 0);
+    std::memcpy(vfs.filedata[0], kSceneXml, size);
+    char error[1000] = "";
+    model_.reset(mj_loadXML("scene.xml", &vfs, error, sizeof(error)));
+    mj_deleteVFS(&vfs);
+    ASSERT_NE(model_, nullptr) << error;
+    data_.reset(mj_makeData(model_.get()));
+    mj_forward(model_.get(), data_.get());
+  }
+  const mjModel& m() const { return *model_; }
+  const mjData& d() const { return *data_; }
+  int geom(const char* name) const { return mj_name2id(model_.get(), mjOBJ_GEOM, name); }
+
+  std::unique_ptr<mjModel, MjDeleter> model_;
+  std::unique_ptr<mjData, MjDeleter> data_;
+};
+
+TEST_F(RendererTest, OsmesaRendersRowsTopDown) {
+  auto renderer = make_renderer(Backend::kOsmesa, m(), 64, 48);
+  EXPECT_FALSE(renderer->gl_renderer().empty());
+  EXPECT_NE(renderer->gl_renderer(), "none");
+  Image image;
+  ASSERT_TRUE(renderer->render(m(), d(), camera_id(m(), "top"), image));
+  ASSERT_EQ(image.width, 64);
+  ASSERT_EQ(image.height, 48);
+  ASSERT_EQ(image.rgb.size(), 64u * 48u * 3u);
+  // The red box is in the top half, the blue capsule in the bottom half, corners are black.
+  const int col = 32;
+  EXPECT_GT(image.at(12, col, 0), image.at(12, col, 2) + 80);
+  EXPECT_GT(image.at(36, col, 2), image.at(36, col, 0) + 80);
+  EXPECT_EQ(image.at(0, 0, 0) + image.at(0, 0, 1) + image.at(0, 0, 2), 0);
+}
+
+TEST_F(RendererTest, ImagesAreReusedAndDeterministic) {
+  auto renderer = make_renderer(Backend::kOsmesa, m(), 32, 32);
+  Image first;
+  ASSERT_TRUE(renderer->render(m(), d(), 0, first));
+  const uint8_t* buffer = first.rgb.data();
+  const Image copy = first;
+  ASSERT_TRUE(renderer->render(m(), d(), 0, first));
+  EXPECT_EQ(first.rgb.data(), buffer);  // no reallocation per frame
+  EXPECT_EQ(first.rgb, copy.rgb);       // same state, same pixels
+  // Moving the mocap body changes the picture.
+  data_->mocap_pos[1] = 0.4;
+  mj_forward(model_.get(), data_.get());
+  ASSERT_TRUE(renderer->render(m(), d(), 0, first));
+  EXPECT_NE(first.rgb, copy.rgb);
+}
+
+TEST_F(RendererTest, SegmentationNamesTheGeomsSeen) {
+  auto renderer = make_renderer(Backend::kOsmesa, m(), 64, 48);
+  SegmentationImage segmentation;
+  ASSERT_TRUE(renderer->render_segmentation(m(), d(), camera_id(m(), "top"), segmentation));
+  ASSERT_EQ(segmentation.width, 64);
+  ASSERT_EQ(segmentation.height, 48);
+  EXPECT_EQ(segmentation.at(12, 32), geom("robot_box"));
+  EXPECT_EQ(segmentation.at(36, 32), geom("human_arm"));
+  EXPECT_EQ(segmentation.at(0, 0), -1);
+  int robot = 0;
+  int human = 0;
+  for (int g : segmentation.geom) {
+    ASSERT_GE(g, -1);
+    ASSERT_LT(g, m().ngeom);
+    robot += g == geom("robot_box") ? 1 : 0;
+    human += g == geom("human_arm") ? 1 : 0;
+  }
+  EXPECT_GT(robot, 100);
+  EXPECT_GT(human, 100);
+  // A colour render right after is not in segmentation colours.
+  Image image;
+  ASSERT_TRUE(renderer->render(m(), d(), camera_id(m(), "top"), image));
+  EXPECT_GT(image.at(12, 32, 0), 100);
+}
+
+TEST_F(RendererTest, FreeCameraAndMujocoDefaultSettingsRender) {
+  auto renderer = make_renderer(Backend::kOsmesa, m(), 32, 24, RenderSettings::mujoco_defaults());
+  mjvCamera camera;
+  mjv_defaultCamera(&camera);
+  camera.type = mjCAMERA_FREE;
+  camera.lookat[2] = 0;
+  camera.distance = 3;
+  camera.elevation = -89;
+  Image image;
+  ASSERT_TRUE(renderer->render(m(), d(), camera, image));
+  int red = 0;
+  int blue = 0;
+  for (size_t i = 0; i < image.rgb.size(); i += 3) {
+    red += image.rgb[i] > image.rgb[i + 2] + 80 ? 1 : 0;
+    blue += image.rgb[i + 2] > image.rgb[i] + 80 ? 1 : 0;
+  }
+  EXPECT_GT(red, 10);
+  EXPECT_GT(blue, 10);
+}
+
+TEST_F(RendererTest, ImpossibleSizesAreInputErrors) {
+  const auto message = [&](int w, int h) {
+    try {
+      make_renderer(Backend::kNone, m(), w, h);
+    } catch (const core::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message(0, 10), "width: expected an image side in [1, 4096] pixels, got 0");
+  EXPECT_EQ(message(10, -3), "height: expected an image side in [1, 4096] pixels, got -3");
+  EXPECT_EQ(message(4097, 10), "width: expected an image side in [1, 4096] pixels, got 4097");
+}
+
+TEST_F(RendererTest, UnknownCameraNamesTheKnownOnes) {
+  EXPECT_EQ(camera_id(m(), "side"), 1);
+  try {
+    camera_id(m(), "agentview");
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "camera: expected one of top, side, got 'agentview'");
+  }
+}
+
+// True when a GL platform library (OSMesa, EGL, GLX) is loaded into this process.
+bool gl_library_loaded() {
+  return dl_iterate_phdr(
+             [](dl_phdr_info* info, size_t, void*) {
+               const std::string name = info->dlpi_name != nullptr ? info->dlpi_name : "";
+               for (const char* lib : {"libOSMesa", "libEGL", "libGL.", "libGLX"}) {
+                 if (name.find(lib) != std::string::npos) return 1;
+               }
+               return 0;
+             },
+             nullptr) != 0;
+}
+
+TEST_F(RendererTest, NoneBackendNeverLoadsGl) {
+  // Run in a fresh process (re-executed test binary) so other tests' contexts do not count.
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(
+      {
+        auto renderer = make_renderer(Backend::kNone, m(), 64, 48);
+        Image image;
+        image.resize(2, 2);
+        SegmentationImage segmentation;
+        const bool rendered = renderer->render(m(), d(), 0, image) ||
+                              renderer->render_segmentation(m(), d(), 0, segmentation);
+        const bool ok = !rendered && image.width == 0 && image.rgb.empty() &&
+                        segmentation.geom.empty() && renderer->gl_renderer() == "none" &&
+                        loaded_gl_platform() == Backend::kNone && !gl_library_loaded();
+        std::exit(ok ? 0 : 1);
+      },
+      ::testing::ExitedWithCode(0), "");
+}
+
+}  // namespace
+}  // namespace hribench::render
