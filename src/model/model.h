@@ -81,6 +81,8 @@ struct SceneSpec {
   HumanSpec human;
   // Light intensity multiplier in [0.2, 2] (lighting variation axis).
   double light_intensity = 1.0;
+  // Lights cast shadows (MuJoCo's shadow map; costly on llvmpipe). Off by default.
+  bool shadows = false;
 
   // A default scene: Panda, table, a red cube, a green cup, a blue bin, and a human standing
   // at the far edge facing the robot.
@@ -111,7 +113,7 @@ inline constexpr std::array<double, kArmDof> kArmTauMax = {87, 87, 87, 87, 12, 1
 inline constexpr std::array<double, kArmDof> kArmHome = {0, 0, 0, -1.57079, 0, 1.57079, -0.7853};
 inline constexpr double kFingerMax = 0.04;      // each finger's travel, m (opening 0..0.08)
 inline constexpr double kGripperMaxWidth = 0.08;
-inline constexpr double kGripperForceMax = 100; // N, per finger actuator force limit
+inline constexpr double kGripperForceMax = 70;  // N, gripper servo force limit (each finger)
 inline constexpr double kFlangeLength = 0.107;  // link7 -> flange along z7, m
 inline constexpr double kTcpOffset = 0.1034;    // hand frame -> TCP along z_hand, m
 
@@ -167,6 +169,10 @@ struct ObjectInfo {
   std::optional<human::Side> held_by;  // from the spec
   int lid_body = -1;   // kBox only: the lid body, else -1
   int lid_joint = -1;  // kBox only: the lid hinge joint id (0 = closed), else -1
+  // Default pose of the object in a human palm frame (see Model::X_wrist_palm) when held
+  // from the start: upright when the wrist is at rest orientation, resting against the palm
+  // (just outside the hand capsule).
+  core::Pose X_palm_hold;
 };
 
 struct Model {
@@ -205,10 +211,11 @@ struct Model {
   std::array<int, human::kNumJoints> human_body{};   // body id per joint (-1 if absent)
   std::array<int, human::kNumJoints> human_mocap{};  // mocap index per joint (-1 if absent)
   human::SkeletonPose human_start;                // pose at reset (standing at spec position)
-  // Palm frame of each hand (index by static_cast<int>(Side)), relative to the wrist joint
-  // frame: origin at the palm centre (palm_distance along -z of the wrist frame at rest), z
-  // axis along the palm normal (pointing out of the palm: -y for the left hand, +y for the
-  // right hand, i.e. toward the body's midline at rest), x along the fingers.
+  // Palm frame of each hand (index by static_cast<size_t>(Side)), relative to the wrist joint
+  // frame: origin at the palm centre (skeleton.palm_distance along -z of the wrist frame), z
+  // axis = palm normal pointing out of the palm = +x of the wrist frame (forward at rest, the
+  // anatomical position), x axis along the fingers (-z of the wrist frame). MuJoCo sites
+  // "palm_left" / "palm_right" on the wrist bodies mark it.
   std::array<core::Pose, 2> X_wrist_palm;
 
   // Objects, in spec order.

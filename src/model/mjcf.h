@@ -1,0 +1,74 @@
+#pragma once
+// Internal to the model layer: pieces of the generated MJCF text. Each generator appends
+// XML to a string; build() in model.cc assembles them and loads the result.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/math.h"
+#include "model/model.h"
+
+namespace hribench::model::mjcf {
+
+// Collision bits (contype / conaffinity). MuJoCo makes a contact between geoms a and b if
+// (contype_a & conaffinity_b) || (contype_b & conaffinity_a).
+inline constexpr int kBitStatic = 1;  // floor, table
+inline constexpr int kBitRobot = 2;
+inline constexpr int kBitObject = 4;
+inline constexpr int kBitHuman = 8;
+
+// Number formatting for MJCF attributes ("%.9g").
+std::string num(double v);
+std::string vec(const core::Vec3& v);
+std::string quat(const core::Quat& q);  // "w x y z"
+std::string rgba(const Rgba& c);
+// xyaxes="..." for a camera at `pos` looking at `target`, with image x as horizontal as possible.
+std::string camera_xyaxes(const core::Vec3& pos, const core::Vec3& target);
+
+// Volume-weighted mass split: fills masses[i] for shapes with volumes[i] so they sum to total.
+// Geom shapes for links: capsule (fromto + radius) and box (centre + half sizes).
+struct Shape {
+  enum Kind { kCapsule, kBox, kCylinder } kind = kCapsule;
+  core::Vec3 a = core::Vec3::Zero();  // capsule/cylinder: from; box: centre
+  core::Vec3 b = core::Vec3::Zero();  // capsule/cylinder: to;   box: half sizes
+  double radius = 0;
+  double volume() const;
+};
+
+// Writes shapes as geoms named "<prefix>_g<i>" of default class `cls` whose masses sum to
+// `mass` (split by volume). `extra` is appended inside each geom tag (e.g. rgba="...").
+void shape_geoms(const std::vector<Shape>& shapes, double mass, std::string_view name_prefix,
+                 std::string_view cls, std::string& out, std::string_view extra = "");
+
+// The Panda arm with the Franka Hand, as a <body> tree placed at the robot base pose
+// (appended to `worldbody`), its actuators/tendon/equality (appended to `actuator`, `tendon`,
+// `equality`) and the default classes it uses (appended to `defaults`).
+void panda(std::string& defaults, std::string& worldbody, std::string& tendon,
+           std::string& equality, std::string& actuator);
+
+// The modified-DH parameters of robots.md (a_{i-1}, d_i, alpha_{i-1}) for joints 1..7 and the
+// flange (index 7).
+struct DhRow {
+  double a, d, alpha;
+};
+inline constexpr DhRow kPandaDh[8] = {
+    {0, 0.333, 0},          {0, 0, -core::kPi / 2},     {0, 0.316, core::kPi / 2},
+    {0.0825, 0, core::kPi / 2}, {-0.0825, 0.384, -core::kPi / 2}, {0, 0, core::kPi / 2},
+    {0.088, 0, core::kPi / 2},  {0, kFlangeLength, 0}};
+
+// Nominal half extents (body frame, origin at the bottom centre) of an object kind at scale 1.
+core::Vec3 nominal_half_extents(ObjectKind kind);
+// Nominal mass (kg) at scale 1 (scales with size_scale^3).
+double nominal_mass(ObjectKind kind);
+// One object as a free <body> named "object_<name>" at pose X_WO (appended to `worldbody`).
+void object(const ObjectSpec& spec, ObjectKind kind, const Rgba& colour, const core::Pose& X_WO,
+            std::string& worldbody);
+
+// The human body: one mocap <body> "human_<joint name>" per joint at its world pose in `pose`,
+// carrying the capsules (geoms "human_<capsule name>") and, on the wrists, "palm_<side>" sites.
+void human_body(const human::Skeleton& skeleton, const std::vector<human::BodyCapsule>& capsules,
+                const human::SkeletonPose& pose, const std::array<core::Pose, 2>& X_wrist_palm,
+                std::string& worldbody);
+
+}  // namespace hribench::model::mjcf

@@ -1,0 +1,547 @@
+// build(): validate a SceneSpec, generate the MJCF text, load it through MuJoCo's VFS, and
+// derive the id tables of Model.
+
+#include "model/model.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "model/mjcf.h"
+
+namespace hribench::model {
+namespace {
+
+using core::Pose;
+using core::Vec3;
+
+constexpr std::array<std::string_view, kNumObjectKinds> kKindNames = {
+    "cube", "cup", "bottle", "plate", "bin", "tray", "box", "plank"};
+
+struct NamedColour {
+  std::string_view name;
+  Rgba rgba;
+};
+const std::vector<NamedColour>& colour_table() {
+  static const std::vector<NamedColour> table = {
+      {"red", {0.85f, 0.12f, 0.12f, 1}},    {"green", {0.15f, 0.7f, 0.2f, 1}},
+      {"blue", {0.15f, 0.3f, 0.85f, 1}},    {"yellow", {0.95f, 0.85f, 0.1f, 1}},
+      {"orange", {0.95f, 0.5f, 0.1f, 1}},   {"purple", {0.55f, 0.2f, 0.7f, 1}},
+      {"cyan", {0.1f, 0.8f, 0.85f, 1}},     {"magenta", {0.9f, 0.15f, 0.65f, 1}},
+      {"white", {0.95f, 0.95f, 0.95f, 1}},  {"black", {0.08f, 0.08f, 0.08f, 1}},
+      {"grey", {0.5f, 0.5f, 0.5f, 1}},      {"brown", {0.5f, 0.3f, 0.15f, 1}},
+      {"pink", {0.98f, 0.6f, 0.7f, 1}},
+  };
+  return table;
+}
+
+// Robot base keep-out radius on the table top (m): objects may not start on the base.
+constexpr double kBaseKeepOut = 0.13;
+
+bool valid_name(std::string_view name) {
+  if (name.empty() || name.size() > 40) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
+// Footprint corners of an object (half extents hx, hy) at (x, y, yaw), world xy.
+std::array<Eigen::Vector2d, 4> footprint(double x, double y, double yaw, double hx, double hy) {
+  const Eigen::Rotation2Dd r(yaw);
+  const Eigen::Vector2d c(x, y);
+  return {c + r * Eigen::Vector2d(hx, hy), c + r * Eigen::Vector2d(-hx, hy),
+          c + r * Eigen::Vector2d(-hx, -hy), c + r * Eigen::Vector2d(hx, -hy)};
+}
+
+// 2-D separating-axis test for two convex quadrilaterals.
+bool overlap(const std::array<Eigen::Vector2d, 4>& a, const std::array<Eigen::Vector2d, 4>& b) {
+  for (const auto* poly : {&a, &b}) {
+    for (size_t i = 0; i < 4; ++i) {
+      const Eigen::Vector2d e = (*poly)[(i + 1) % 4] - (*poly)[i];
+      const Eigen::Vector2d n(-e.y(), e.x());
+      double amin = 1e300, amax = -1e300, bmin = 1e300, bmax = -1e300;
+      for (const auto& p : a) amin = std::min(amin, n.dot(p)), amax = std::max(amax, n.dot(p));
+      for (const auto& p : b) bmin = std::min(bmin, n.dot(p)), bmax = std::max(bmax, n.dot(p));
+      if (amax <= bmin || bmax <= amin) return false;
+    }
+  }
+  return true;
+}
+
+// A spec with every object's kind/colour resolved and names defaulted; throws InputError.
+struct Resolved {
+  SceneSpec spec;
+  std::vector<ObjectKind> kinds;
+  std::vector<Rgba> colours;
+  std::vector<Vec3> half_extents;
+};
+
+Resolved resolve(const SceneSpec& in) {
+  Resolved r{in, {}, {}, {}};
+  const auto finite = [](double v) { return std::isfinite(v); };
+  if (!finite(in.light_intensity) || in.light_intensity < 0.2 || in.light_intensity > 2)
+    throw core::InputError("scene.light_intensity", "a value in [0.2, 2]",
+                           fmt::format("{}", in.light_intensity));
+  const HumanSpec& h = in.human;
+  if (h.present) {
+    if (!finite(h.height) || h.height < 1.0 || h.height > 2.5)
+      throw core::InputError("scene.human.height", "a height in [1.0, 2.5] m",
+                             fmt::format("{}", h.height));
+    if (!finite(h.x) || !finite(h.y) || !finite(h.yaw))
+      throw core::InputError("scene.human", "finite x, y, yaw", "a non-finite value");
+  }
+  std::set<std::string> names;
+  std::vector<std::array<Eigen::Vector2d, 4>> prints;
+  std::vector<size_t> on_table;
+  for (size_t i = 0; i < in.objects.size(); ++i) {
+    ObjectSpec& o = r.spec.objects[i];
+    const std::string where = fmt::format("scene.objects[{}]", i);
+    const auto kind = object_kind_from_name(o.kind);
+    if (!kind)
+      throw core::InputError(where + ".kind",
+                             "one of cube, cup, bottle, plate, bin, tray, box, plank",
+                             "'" + o.kind + "'");
+    const auto colour = colour_from_name(o.colour);
+    if (!colour) {
+      std::string all;
+      for (auto n : colour_names()) all += (all.empty() ? "" : ", ") + std::string(n);
+      throw core::InputError(where + ".colour", "one of " + all, "'" + o.colour + "'");
+    }
+    if (o.name.empty()) o.name = fmt::format("{}{}", o.kind, i);
+    if (!valid_name(o.name))
+      throw core::InputError(where + ".name", "1-40 characters of [A-Za-z0-9_]",
+                             "'" + o.name + "'");
+    if (!names.insert(o.name).second)
+      throw core::InputError(where + ".name", "a name not used by another object",
+                             "duplicate '" + o.name + "'");
+    if (!finite(o.size_scale) || o.size_scale < 0.5 || o.size_scale > 2)
+      throw core::InputError(where + ".size_scale", "a value in [0.5, 2]",
+                             fmt::format("{}", o.size_scale));
+    const Vec3 half = mjcf::nominal_half_extents(*kind) * o.size_scale;
+    r.kinds.push_back(*kind);
+    r.colours.push_back(*colour);
+    r.half_extents.push_back(half);
+    if (o.held_by) {
+      if (!h.present)
+        throw core::InputError(where + ".held_by", "a scene with a human", "no human");
+      for (size_t k = 0; k < i; ++k)
+        if (in.objects[k].held_by == o.held_by)
+          throw core::InputError(where + ".held_by", "a free hand",
+                                 fmt::format("the {} hand already holds '{}'",
+                                             human::to_string(*o.held_by), r.spec.objects[k].name));
+      prints.emplace_back();
+      continue;
+    }
+    if (!finite(o.x) || !finite(o.y) || !finite(o.yaw))
+      throw core::InputError(where, "finite x, y, yaw", "a non-finite value");
+    const auto fp = footprint(o.x, o.y, o.yaw, half.x(), half.y());
+    for (const auto& p : fp) {
+      if (p.x() < kTableXMin || p.x() > kTableXMax || std::abs(p.y()) > kTableWidth / 2)
+        throw core::InputError(
+            where, fmt::format("an object footprint on the table (x in [{}, {}], |y| <= {})",
+                               kTableXMin, kTableXMax, kTableWidth / 2),
+            fmt::format("'{}' off the table at x={:.3f} y={:.3f}", o.name, o.x, o.y));
+    }
+    if (std::hypot(o.x, o.y) < kBaseKeepOut + std::hypot(half.x(), half.y()))
+      throw core::InputError(where, "an object clear of the robot base",
+                             fmt::format("'{}' on the base at x={:.3f} y={:.3f}", o.name, o.x, o.y));
+    for (size_t k : on_table) {
+      if (overlap(fp, prints[k]))
+        throw core::InputError(where, "objects that do not overlap",
+                               fmt::format("'{}' overlaps '{}'", o.name, r.spec.objects[k].name));
+    }
+    prints.push_back(fp);
+    on_table.push_back(i);
+  }
+  return r;
+}
+
+std::array<Pose, 2> palm_frames(const human::Skeleton& skeleton) {
+  Pose palm;
+  palm.rotation = core::axis_angle(Vec3::UnitY(), core::kPi / 2);
+  palm.translation = Vec3(0, 0, -skeleton.palm_distance);
+  return {palm, palm};
+}
+
+// Default hold pose in the palm frame: the object upright in the wrist frame, its centre just
+// in front of the palm (outside the hand capsule).
+Pose palm_hold(const human::Skeleton& skeleton, const Pose& X_wrist_palm, const Vec3& half) {
+  const double hand_radius = 0.035 * skeleton.scale;
+  Pose X_wrist_obj;
+  X_wrist_obj.translation = X_wrist_palm.translation +
+                            Vec3(hand_radius + half.x() + 0.004, 0, -half.z());
+  return X_wrist_palm.inverse() * X_wrist_obj;
+}
+
+struct Generated {
+  Resolved resolved;
+  std::string xml;
+  human::Skeleton skeleton;
+  std::vector<human::BodyCapsule> capsules;
+  human::SkeletonPose human_start;
+  std::array<Pose, 2> X_wrist_palm;
+  std::vector<Pose> X_W_start;
+  std::vector<Pose> X_palm_hold;
+};
+
+Generated generate(const SceneSpec& spec) {
+  Generated g{resolve(spec), {}, {}, {}, {}, {}, {}, {}};
+  const SceneSpec& s = g.resolved.spec;
+  const HumanSpec& h = s.human;
+  std::array<Pose, human::kNumJoints> X_WJ{};
+  if (h.present) {
+    g.skeleton = human::Skeleton::FromHeight(h.height);
+    g.capsules = human::body_capsules(g.skeleton);
+    g.human_start = human::SkeletonPose::Standing(g.skeleton, h.x, h.y, h.yaw);
+    g.X_wrist_palm = palm_frames(g.skeleton);
+    X_WJ = human::forward_kinematics(g.skeleton, g.human_start);
+  }
+
+  std::string defaults, world, tendon, equality, actuator, contact;
+  const double li = s.light_intensity;
+  const std::string shadow = s.shadows ? "true" : "false";
+  // Lights, floor, table.
+  world += fmt::format(
+      R"(<light name="top" directional="true" pos="0.5 0 3" dir="0 0 -1" diffuse="{0} {0} {0}" specular="0.1 0.1 0.1" castshadow="{2}"/>
+<light name="fill" directional="true" pos="-1 -1 2.5" dir="0.4 0.4 -0.8" diffuse="{1} {1} {1}" specular="0 0 0" castshadow="false"/>
+<geom name="floor" class="static" type="plane" size="4 4 0.05" material="floor"/>
+<geom name="table" class="static" type="box" pos="{3}" size="{4}" rgba="0.72 0.58 0.42 1"/>
+)",
+      mjcf::num(0.6 * li), mjcf::num(0.3 * li), shadow,
+      mjcf::vec(Vec3((kTableXMin + kTableXMax) / 2, 0, kTableTopZ - 0.025)),
+      mjcf::vec(Vec3((kTableXMax - kTableXMin) / 2, kTableWidth / 2, 0.025)));
+  for (int i = 0; i < 4; ++i) {
+    const double x = i % 2 == 0 ? kTableXMin + 0.05 : kTableXMax - 0.05;
+    const double y = i < 2 ? kTableWidth / 2 - 0.05 : -kTableWidth / 2 + 0.05;
+    world += fmt::format(
+        R"(<geom name="table_leg{}" class="static" type="box" pos="{}" size="0.03 0.03 {}" rgba="0.45 0.35 0.25 1"/>)",
+        i, mjcf::vec(Vec3(x, y, (kTableTopZ - 0.05) / 2)), mjcf::num((kTableTopZ - 0.05) / 2));
+    world += "\n";
+  }
+  // agentview: to the side of the table, above, seeing the robot, the table and the human.
+  const Vec3 cam(0.45, -1.75, 1.75);
+  world += fmt::format(R"(<camera name="agentview" pos="{}" xyaxes="{}" fovy="55"/>)",
+                       mjcf::vec(cam), mjcf::camera_xyaxes(cam, Vec3(0.55, 0, 1.0)));
+  world += "\n";
+
+  mjcf::panda(defaults, world, tendon, equality, actuator);
+
+  // Objects (on the table, or in a hand).
+  for (size_t i = 0; i < s.objects.size(); ++i) {
+    const ObjectSpec& o = s.objects[i];
+    const Vec3& half = g.resolved.half_extents[i];
+    Pose X_WO;
+    Pose hold;
+    if (h.present) {
+      const auto side = o.held_by.value_or(h.handedness);
+      hold = palm_hold(g.skeleton, g.X_wrist_palm[static_cast<size_t>(side)], half);
+    }
+    if (o.held_by) {
+      const auto side = static_cast<size_t>(*o.held_by);
+      X_WO = X_WJ[static_cast<size_t>(human::index(human::wrist(*o.held_by)))] *
+             g.X_wrist_palm[side] * hold;
+    } else {
+      X_WO.rotation = core::axis_angle(Vec3::UnitZ(), o.yaw);
+      X_WO.translation = Vec3(o.x, o.y, kTableTopZ);
+    }
+    g.X_W_start.push_back(X_WO);
+    g.X_palm_hold.push_back(hold);
+    mjcf::object(o, g.resolved.kinds[i], g.resolved.colours[i], X_WO, world);
+    // Human hands pass through objects (a held object sits against the palm); other human
+    // parts collide with objects.
+    if (h.present) {
+      for (const auto side : {human::Side::kLeft, human::Side::kRight})
+        contact += fmt::format(R"(<exclude body1="human_{}" body2="object_{}"/>)",
+                               human::joint_name(human::wrist(side)), o.name) + "\n";
+    }
+  }
+  if (h.present) mjcf::human_body(g.skeleton, g.capsules, g.human_start, g.X_wrist_palm, world);
+
+  // Home keyframe: arm home, fingers open, objects and human at their start poses.
+  std::string key_qpos;
+  for (double q : kArmHome) key_qpos += mjcf::num(q) + " ";
+  key_qpos += mjcf::num(kFingerMax) + " " + mjcf::num(kFingerMax);
+  for (size_t i = 0; i < s.objects.size(); ++i) {
+    key_qpos += " " + mjcf::vec(g.X_W_start[i].translation) + " " +
+                mjcf::quat(g.X_W_start[i].rotation);
+    if (g.resolved.kinds[i] == ObjectKind::kBox) key_qpos += " 0";
+  }
+  std::string key_ctrl;
+  for (double q : kArmHome) key_ctrl += mjcf::num(q) + " ";
+  key_ctrl += mjcf::num(kGripperMaxWidth);
+  std::string key_mocap;
+  if (h.present) {
+    std::string mpos, mquat;
+    for (const Pose& X : X_WJ) {
+      mpos += mjcf::vec(X.translation) + " ";
+      mquat += mjcf::quat(X.rotation) + " ";
+    }
+    mpos.pop_back();  // MuJoCo counts a trailing space as one more number
+    mquat.pop_back();
+    key_mocap = fmt::format(R"( mpos="{}" mquat="{}")", mpos, mquat);
+  }
+
+  const int static_aff = mjcf::kBitRobot | mjcf::kBitObject;
+  const int object_aff = mjcf::kBitStatic | mjcf::kBitRobot | mjcf::kBitObject | mjcf::kBitHuman;
+  const int human_aff = mjcf::kBitRobot | mjcf::kBitObject;
+  g.xml = fmt::format(
+      R"(<mujoco model="hribench">
+<compiler angle="radian" autolimits="true"/>
+<option timestep="{timestep}" integrator="implicit" cone="elliptic" impratio="10" tolerance="1e-8" iterations="50"/>
+<size njmax="3000" nconmax="600"/>
+<visual>
+  <headlight ambient="0.35 0.35 0.35" diffuse="0.35 0.35 0.35" specular="0 0 0"/>
+  <global offwidth="1280" offheight="960"/>
+  <quality shadowsize="2048"/>
+</visual>
+<asset>
+  <texture name="floor" type="2d" builtin="checker" rgb1="0.55 0.55 0.55" rgb2="0.45 0.45 0.45" width="256" height="256"/>
+  <material name="floor" texture="floor" texrepeat="8 8"/>
+</asset>
+<default>
+  <default class="static"><geom contype="{static_bit}" conaffinity="{static_aff}" condim="3" friction="0.8 0.005 0.0001"/></default>
+  <default class="object"><geom contype="{object_bit}" conaffinity="{object_aff}" condim="4" friction="1.0 0.01 0.0001" solref="0.01 1" solimp="0.95 0.99 0.001"/></default>
+  <default class="human"><geom contype="{human_bit}" conaffinity="{human_aff}" condim="3" friction="0.8 0.005 0.0001" density="1000"/></default>
+{defaults}</default>
+<worldbody>
+{world}</worldbody>
+<contact>
+{contact}</contact>
+<tendon>
+{tendon}</tendon>
+<equality>
+{equality}</equality>
+<actuator>
+{actuator}</actuator>
+<keyframe>
+  <key name="home" qpos="{key_qpos}" ctrl="{key_ctrl}"{key_mocap}/>
+</keyframe>
+</mujoco>
+)",
+      fmt::arg("timestep", mjcf::num(kTimestep)), fmt::arg("static_bit", mjcf::kBitStatic),
+      fmt::arg("static_aff", static_aff), fmt::arg("object_bit", mjcf::kBitObject),
+      fmt::arg("object_aff", object_aff), fmt::arg("human_bit", mjcf::kBitHuman),
+      fmt::arg("human_aff", human_aff), fmt::arg("defaults", defaults), fmt::arg("world", world),
+      fmt::arg("contact", contact), fmt::arg("tendon", tendon), fmt::arg("equality", equality),
+      fmt::arg("actuator", actuator), fmt::arg("key_qpos", key_qpos),
+      fmt::arg("key_ctrl", key_ctrl), fmt::arg("key_mocap", key_mocap));
+  return g;
+}
+
+// Loads MJCF text through a VFS; throws InputError carrying MuJoCo's message on failure.
+mjModel* load(const std::string& xml) {
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  constexpr const char* kName = "hribench_scene.xml";
+  HRIB_CHECK(mj_makeEmptyFileVFS(vfs.get(), kName, static_cast<int>(xml.size())) == 0);
+  const int index = mj_findFileVFS(vfs.get(), kName);
+  HRIB_CHECK(index >= 0);
+  std::memcpy(vfs->filedata[index], xml.data(), xml.size());
+  std::array<char, 1024> error{};
+  mjModel* m = mj_loadXML(kName, vfs.get(), error.data(), static_cast<int>(error.size()));
+  mj_deleteVFS(vfs.get());
+  if (m == nullptr)
+    throw core::InputError::Message("model::build", std::string("MuJoCo rejected the scene: ") +
+                                                        error.data());
+  return m;
+}
+
+int id_of(const mjModel* m, mjtObj type, const std::string& name) {
+  const int id = mj_name2id(m, type, name.c_str());
+  HRIB_CHECK(id >= 0) << "no MuJoCo object named " << name;
+  return id;
+}
+
+}  // namespace
+
+std::string_view to_string(ObjectKind kind) { return kKindNames[static_cast<size_t>(kind)]; }
+
+std::optional<ObjectKind> object_kind_from_name(std::string_view name) {
+  for (size_t i = 0; i < kKindNames.size(); ++i)
+    if (kKindNames[i] == name) return static_cast<ObjectKind>(i);
+  return std::nullopt;
+}
+
+std::optional<Rgba> colour_from_name(std::string_view name) {
+  for (const auto& c : colour_table())
+    if (c.name == name) return c.rgba;
+  return std::nullopt;
+}
+
+const std::vector<std::string_view>& colour_names() {
+  static const std::vector<std::string_view> names = [] {
+    std::vector<std::string_view> v;
+    for (const auto& c : colour_table()) v.push_back(c.name);
+    return v;
+  }();
+  return names;
+}
+
+std::string_view to_string(GeomOwner owner) {
+  switch (owner) {
+    case GeomOwner::kOther: return "other";
+    case GeomOwner::kFloor: return "floor";
+    case GeomOwner::kTable: return "table";
+    case GeomOwner::kRobotLink: return "robot_link";
+    case GeomOwner::kRobotHand: return "robot_hand";
+    case GeomOwner::kRobotFinger: return "robot_finger";
+    case GeomOwner::kHuman: return "human";
+    case GeomOwner::kObject: return "object";
+    case GeomOwner::kPlatform: return "platform";
+  }
+  return "other";
+}
+
+SceneSpec SceneSpec::Default() {
+  SceneSpec s;
+  ObjectSpec cube;
+  cube.kind = "cube";
+  cube.name = "cube";
+  cube.colour = "red";
+  cube.x = 0.5;
+  cube.y = 0.0;
+  ObjectSpec cup;
+  cup.kind = "cup";
+  cup.name = "cup";
+  cup.colour = "green";
+  cup.x = 0.45;
+  cup.y = 0.25;
+  ObjectSpec bin;
+  bin.kind = "bin";
+  bin.name = "bin";
+  bin.colour = "blue";
+  bin.x = 0.45;
+  bin.y = -0.3;
+  s.objects = {cube, cup, bin};
+  return s;
+}
+
+int Model::object_index(std::string_view name) const {
+  for (size_t i = 0; i < objects.size(); ++i)
+    if (objects[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+std::string to_mjcf(const SceneSpec& spec) { return generate(spec).xml; }
+
+Model build(const SceneSpec& spec) {
+  Generated g = generate(spec);
+  Model model;
+  model.mj.reset(load(g.xml));
+  const mjModel* m = model.m();
+  model.spec = std::move(g.resolved.spec);
+  model.mjcf = std::move(g.xml);
+
+  // Robot.
+  for (int i = 0; i < kArmDof; ++i) {
+    const auto k = static_cast<size_t>(i);
+    model.arm_joint[k] = id_of(m, mjOBJ_JOINT, fmt::format("panda_joint{}", i + 1));
+    model.arm_qpos_adr[k] = m->jnt_qposadr[model.arm_joint[k]];
+    model.arm_dof_adr[k] = m->jnt_dofadr[model.arm_joint[k]];
+    model.arm_actuator[k] = id_of(m, mjOBJ_ACTUATOR, fmt::format("actuator{}", i + 1));
+  }
+  for (int i = 0; i < 8; ++i)
+    model.link_body[static_cast<size_t>(i)] = id_of(m, mjOBJ_BODY, fmt::format("link{}", i));
+  const std::array<std::string, 2> finger_joints = {"finger_joint1", "finger_joint2"};
+  const std::array<std::string, 2> finger_bodies = {"left_finger", "right_finger"};
+  for (size_t i = 0; i < 2; ++i) {
+    model.finger_joint[i] = id_of(m, mjOBJ_JOINT, finger_joints[i]);
+    model.finger_qpos_adr[i] = m->jnt_qposadr[model.finger_joint[i]];
+    model.finger_dof_adr[i] = m->jnt_dofadr[model.finger_joint[i]];
+    model.finger_body[i] = id_of(m, mjOBJ_BODY, finger_bodies[i]);
+  }
+  model.gripper_actuator = id_of(m, mjOBJ_ACTUATOR, "gripper");
+  model.hand_body = id_of(m, mjOBJ_BODY, "hand");
+  model.flange_site = id_of(m, mjOBJ_SITE, "flange");
+  model.tcp_site = id_of(m, mjOBJ_SITE, "tcp");
+  model.X_WB.translation = Vec3(0, 0, kTableTopZ);
+  model.agentview_camera = id_of(m, mjOBJ_CAMERA, "agentview");
+  model.wrist_camera = id_of(m, mjOBJ_CAMERA, "wrist");
+  model.table_geom = id_of(m, mjOBJ_GEOM, "table");
+  model.floor_geom = id_of(m, mjOBJ_GEOM, "floor");
+
+  // Human.
+  model.human_body.fill(-1);
+  model.human_mocap.fill(-1);
+  model.has_human = model.spec.human.present;
+  if (model.has_human) {
+    model.skeleton = g.skeleton;
+    model.human_capsules = g.capsules;
+    model.human_start = g.human_start;
+    model.X_wrist_palm = g.X_wrist_palm;
+    for (int j = 0; j < human::kNumJoints; ++j) {
+      const auto k = static_cast<size_t>(j);
+      const int body = id_of(
+          m, mjOBJ_BODY,
+          "human_" + std::string(human::joint_name(static_cast<human::Joint>(j))));
+      model.human_body[k] = body;
+      model.human_mocap[k] = m->body_mocapid[body];
+    }
+    for (const auto& c : model.human_capsules)
+      model.human_capsule_geom.push_back(id_of(m, mjOBJ_GEOM, "human_" + std::string(c.name)));
+  }
+
+  // Objects.
+  for (size_t i = 0; i < model.spec.objects.size(); ++i) {
+    const ObjectSpec& o = model.spec.objects[i];
+    ObjectInfo info;
+    info.name = o.name;
+    info.kind = g.resolved.kinds[i];
+    info.rgba = g.resolved.colours[i];
+    info.body = id_of(m, mjOBJ_BODY, "object_" + o.name);
+    const int joint = m->body_jntadr[info.body];
+    info.qpos_adr = m->jnt_qposadr[joint];
+    info.dof_adr = m->jnt_dofadr[joint];
+    info.mass = m->body_subtreemass[info.body];
+    info.half_extents = g.resolved.half_extents[i];
+    info.X_W_start = g.X_W_start[i];
+    info.X_palm_hold = g.X_palm_hold[i];
+    info.held_by = o.held_by;
+    if (info.kind == ObjectKind::kBox) {
+      info.lid_body = id_of(m, mjOBJ_BODY, "object_" + o.name + "_lid");
+      info.lid_joint = id_of(m, mjOBJ_JOINT, "object_" + o.name + "_lid_hinge");
+    }
+    model.objects.push_back(std::move(info));
+  }
+
+  // Geom tags, from the owning body.
+  std::map<int, GeomTag> by_body;
+  for (size_t k = 0; k < 8; ++k) by_body[model.link_body[k]] = {GeomOwner::kRobotLink, static_cast<int>(k)};
+  by_body[model.hand_body] = {GeomOwner::kRobotHand, -1};
+  for (size_t k = 0; k < 2; ++k)
+    by_body[model.finger_body[k]] = {GeomOwner::kRobotFinger, static_cast<int>(k)};
+  for (size_t k = 0; k < model.objects.size(); ++k) {
+    by_body[model.objects[k].body] = {GeomOwner::kObject, static_cast<int>(k)};
+    if (model.objects[k].lid_body >= 0)
+      by_body[model.objects[k].lid_body] = {GeomOwner::kObject, static_cast<int>(k)};
+  }
+  model.geom_tags.assign(static_cast<size_t>(m->ngeom), GeomTag{});
+  for (int gid = 0; gid < m->ngeom; ++gid) {
+    const auto it = by_body.find(m->geom_bodyid[gid]);
+    if (it != by_body.end()) model.geom_tags[static_cast<size_t>(gid)] = it->second;
+  }
+  for (size_t c = 0; c < model.human_capsule_geom.size(); ++c) {
+    GeomTag& tag = model.geom_tags[static_cast<size_t>(model.human_capsule_geom[c])];
+    tag = {GeomOwner::kHuman, static_cast<int>(c), model.human_capsules[c].region,
+           model.human_capsules[c].joint};
+  }
+  model.geom_tags[static_cast<size_t>(model.floor_geom)].owner = GeomOwner::kFloor;
+  for (int gid = 0; gid < m->ngeom; ++gid) {
+    const char* name = mj_id2name(m, mjOBJ_GEOM, gid);
+    if (name != nullptr && std::strncmp(name, "table", 5) == 0)
+      model.geom_tags[static_cast<size_t>(gid)].owner = GeomOwner::kTable;
+  }
+  return model;
+}
+
+}  // namespace hribench::model
