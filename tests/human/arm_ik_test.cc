@@ -1,0 +1,151 @@
+#include "human/arm_ik.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace hribench::human {
+namespace {
+
+using core::Quat;
+using core::Vec3;
+
+constexpr double kDeg = core::kPi / 180.0;
+
+Vec3 joint_position(const Skeleton& k, const SkeletonPose& pose, Joint j) {
+  return forward_kinematics(k, pose)[static_cast<size_t>(index(j))].translation;
+}
+
+TEST(ArmIkTest, WristReachesTargetsInFrontForBothArms) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  const SkeletonPose rest = SkeletonPose::Standing(k, 1.5, 0.1, core::kPi);
+  for (const Side side : {Side::kLeft, Side::kRight}) {
+    const Vec3 S = joint_position(k, rest, shoulder(side));
+    for (double fx : {0.2, 0.3, 0.38}) {
+      for (double dz : {-0.3, 0.0, 0.2}) {
+        for (double swivel : {0.0, 30 * kDeg, 70 * kDeg}) {
+          SkeletonPose pose = rest;
+          // The person faces -x (yaw pi): "in front" is world -x.
+          const Vec3 target = S + Vec3(-fx, 0.05, dz);
+          const ArmSolution sol = solve_arm(k, pose, side, {target, swivel, std::nullopt});
+          EXPECT_TRUE(sol.reachable);
+          EXPECT_LT((joint_position(k, pose, wrist(side)) - target).norm(), 1e-9);
+          EXPECT_TRUE(check_joint_limits(pose).empty());
+        }
+      }
+    }
+  }
+}
+
+TEST(ArmIkTest, PositiveSwivelMovesTheElbowOutward) {
+  const Skeleton k = Skeleton::FromHeight(1.70);
+  const SkeletonPose rest = SkeletonPose::Standing(k, 0, 0, 0);
+  for (const Side side : {Side::kLeft, Side::kRight}) {
+    const Vec3 S = joint_position(k, rest, shoulder(side));
+    const Vec3 target = S + Vec3(0.35, 0, -0.1);
+    SkeletonPose down = rest;
+    SkeletonPose out = rest;
+    solve_arm(k, down, side, {target, 0, std::nullopt});
+    solve_arm(k, out, side, {target, 60 * kDeg, std::nullopt});
+    const double lateral = side == Side::kLeft ? 1.0 : -1.0;
+    const Vec3 e_down = joint_position(k, down, elbow(side));
+    const Vec3 e_out = joint_position(k, out, elbow(side));
+    EXPECT_GT(lateral * (e_out.y() - e_down.y()), 0.05) << to_string(side);
+    EXPECT_LT(e_down.z(), S.z());  // elbow below the shoulder with swivel 0
+  }
+}
+
+TEST(ArmIkTest, UnreachableTargetsMakeTheArmPointAtThem) {
+  const Skeleton k = Skeleton::FromHeight(1.70);
+  SkeletonPose pose = SkeletonPose::Standing(k, 0, 0, 0);
+  const Vec3 S = joint_position(k, pose, Joint::kRightShoulder);
+  const Vec3 target = S + Vec3(1.0, -0.2, 0.1);
+  const ArmSolution sol = solve_arm(k, pose, Side::kRight, {target, 0.3, std::nullopt});
+  EXPECT_FALSE(sol.reachable);
+  const Vec3 W = joint_position(k, pose, Joint::kRightWrist);
+  const Vec3 n = (target - S).normalized();
+  EXPECT_LT(((W - S) - (W - S).dot(n) * n).norm(), 1e-9);  // on the ray
+  EXPECT_NEAR((W - S).norm(), 0.995 * arm_length(k, Side::kRight), 1e-9);
+}
+
+TEST(ArmIkTest, HandOrientationTargetsAreMet) {
+  const Skeleton k = Skeleton::FromHeight(1.80);
+  const SkeletonPose rest = SkeletonPose::Standing(k, 0, 0, 0);
+  for (const Side side : {Side::kLeft, Side::kRight}) {
+    const Vec3 S = joint_position(k, rest, shoulder(side));
+    SkeletonPose pose = rest;
+    // Palm up and a little toward the midline, fingers forward (give me / receive).
+    const Vec3 medial(0, side == Side::kLeft ? -0.5 : 0.5, 1);
+    const Quat up = hand_rotation(side, Vec3::UnitX(), medial);
+    solve_arm(k, pose, side, {S + Vec3(0.35, 0, -0.25), 20 * kDeg, up});
+    const core::Pose X_W_wrist = forward_kinematics(k, pose)[static_cast<size_t>(index(wrist(side)))];
+    EXPECT_LT((palm_normal(side, X_W_wrist) - medial.normalized()).norm(), 1e-6) << to_string(side);
+    const Vec3 fingers = (index_tip(k, X_W_wrist) - X_W_wrist.translation).normalized();
+    EXPECT_LT((fingers - Vec3::UnitX()).norm(), 1e-6);
+    EXPECT_NEAR((palm_centre(k, X_W_wrist) - X_W_wrist.translation).norm(), k.palm_distance, 1e-12);
+    EXPECT_TRUE(check_joint_limits(pose).empty());
+  }
+}
+
+TEST(ArmIkTest, HandRotationIsClampedToTheWristLimits) {
+  const Skeleton k = Skeleton::FromHeight(1.70);
+  SkeletonPose pose = SkeletonPose::Standing(k, 0, 0, 0);
+  const Vec3 S = joint_position(k, pose, Joint::kRightShoulder);
+  // Fingers pointing back at the person: impossible for the wrist.
+  const Quat back = hand_rotation(Side::kRight, -Vec3::UnitX(), Vec3::UnitZ());
+  solve_arm(k, pose, Side::kRight, {S + Vec3(0.4, 0, -0.1), 0, back});
+  EXPECT_TRUE(check_joint_limits(pose).empty());
+}
+
+TEST(ArmIkTest, TorsoLeansOnlyForFarReaches) {
+  const Skeleton k = Skeleton::FromHeight(1.70);
+  const SkeletonPose pose = SkeletonPose::Standing(k, 0, 0, 0);
+  const Vec3 S = joint_position(k, pose, Joint::kRightShoulder);
+  const double L = arm_length(k, Side::kRight);
+  EXPECT_EQ(lean_for_reach(k, pose, Side::kRight, S + Vec3(0.5 * L, 0, 0), 0.93, 0.8), 0);
+  const Vec3 far = S + Vec3(1.1 * L, 0, -0.3);
+  const double lean = lean_for_reach(k, pose, Side::kRight, far, 0.93, 0.8);
+  EXPECT_GT(lean, 0);
+  EXPECT_LT(lean, 0.8);
+  SkeletonPose leaned = pose;
+  lean_spine(k, leaned, far - pose.X_WP.translation, lean);
+  // The legs do not move.
+  EXPECT_LT((joint_position(k, leaned, Joint::kLeftAnkle) - joint_position(k, pose, Joint::kLeftAnkle)).norm(), 1e-9);
+  EXPECT_TRUE(check_joint_limits(leaned).empty());
+  EXPECT_NEAR((far - joint_position(k, leaned, Joint::kRightShoulder)).norm(), 0.93 * L, 1e-6);
+  // Leaning forward moves the head forward.
+  EXPECT_GT(joint_position(k, leaned, Joint::kHead).x(), joint_position(k, pose, Joint::kHead).x());
+  EXPECT_EQ(lean_for_reach(k, pose, Side::kRight, S + Vec3(5, 0, 0), 0.93, 0.8), 0.8);
+}
+
+TEST(ArmIkTest, JointLimitsFlagImpossiblePoses) {
+  SkeletonPose pose;
+  EXPECT_TRUE(check_joint_limits(pose).empty());
+  pose.local[index(Joint::kLeftElbow)] = core::axis_angle(Vec3::UnitY(), 30 * kDeg);  // backwards
+  pose.local[index(Joint::kSpine2)] = core::axis_angle(Vec3::UnitY(), 40 * kDeg);
+  pose.local[index(Joint::kRightKnee)] = core::axis_angle(Vec3::UnitY(), -60 * kDeg);  // forward
+  const auto v = check_joint_limits(pose);
+  ASSERT_EQ(v.size(), 3u);
+  EXPECT_EQ(v[0].joint, Joint::kLeftElbow);
+  EXPECT_EQ(v[0].what, "elbow hyperextension");
+  EXPECT_NEAR(v[0].value_deg, 30, 1e-9);
+  EXPECT_EQ(v[0].limit_deg, 10);
+  EXPECT_EQ(v[1].what, "spine");
+  EXPECT_EQ(v[2].what, "knee hyperextension");
+  // A normal elbow flexion is fine.
+  SkeletonPose bent;
+  bent.local[index(Joint::kRightElbow)] = core::axis_angle(Vec3(0, -1, 0), 100 * kDeg);
+  EXPECT_TRUE(check_joint_limits(bent).empty());
+}
+
+TEST(ArmIkTest, SwingTwistDecomposition) {
+  EXPECT_NEAR(twist_angle(core::axis_angle(Vec3::UnitZ(), 0.5), Vec3::UnitZ()), 0.5, 1e-12);
+  EXPECT_NEAR(swing_angle(core::axis_angle(Vec3::UnitZ(), 0.5), Vec3::UnitZ()), 0, 1e-7);
+  EXPECT_NEAR(twist_angle(core::axis_angle(Vec3::UnitX(), 0.4), Vec3::UnitZ()), 0, 1e-12);
+  EXPECT_NEAR(swing_angle(core::axis_angle(Vec3::UnitX(), 0.4), Vec3::UnitZ()), 0.4, 1e-12);
+  const Quat both = core::axis_angle(Vec3::UnitX(), 0.3) * core::axis_angle(Vec3::UnitZ(), -0.7);
+  EXPECT_NEAR(twist_angle(both, Vec3::UnitZ()), -0.7, 1e-12);
+}
+
+}  // namespace
+}  // namespace hribench::human
