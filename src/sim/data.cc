@@ -1,0 +1,112 @@
+#include "sim/data.h"
+
+#include <sstream>
+
+#include "core/errors.h"
+#include "sim/hold.h"
+
+namespace hribench::sim {
+
+Data make_data(const model::Model& model) {
+  const mjModel* m = model.m();
+  HRIB_CHECK(m != nullptr) << "make_data on an unbuilt Model";
+  Data data;
+  data.mj.reset(mj_makeData(m));
+  data.scratch.reset(mj_makeData(m));
+  HRIB_CHECK(data.mj && data.scratch) << "mj_makeData failed";
+  data.jacobian.assign(static_cast<size_t>(6 * m->nv), 0.0);
+  reset(model, data);
+  return data;
+}
+
+void reset(const model::Model& model, Data& data) {
+  reset(model, data, model.has_human ? model.human_start : human::SkeletonPose());
+}
+
+void reset(const model::Model& model, Data& data, const human::SkeletonPose& human_start) {
+  const mjModel* m = model.m();
+  mjData* d = data.mj.get();
+  // Home keyframe: robot home, fingers open, objects at their spec poses, human at start.
+  mj_resetDataKeyframe(m, d, 0);
+  data.q_target = model::kArmHome;
+  data.gripper_width_target = model::kGripperMaxWidth;
+  for (size_t i = 0; i < model::kArmDof; ++i) d->ctrl[model.arm_actuator[i]] = data.q_target[i];
+  d->ctrl[model.gripper_actuator] = data.gripper_width_target;
+  data.hold = {};
+  data.human_pose = human_start;
+  data.human_pose_dirty = true;
+  pose_human(model, data);
+  // Objects that start in a hand: placed at the palm of the start pose, and held.
+  for (size_t i = 0; i < model.objects.size(); ++i) {
+    const model::ObjectInfo& o = model.objects[i];
+    if (!o.held_by || !model.has_human) continue;
+    const core::Pose X_WO = palm_pose(model, data, *o.held_by) * o.X_palm_hold;
+    mjtNum* q = d->qpos + o.qpos_adr;
+    q[0] = X_WO.translation.x();
+    q[1] = X_WO.translation.y();
+    q[2] = X_WO.translation.z();
+    core::quat_to_wxyz(X_WO.rotation, q + 3);
+    grasp_by_human(model, data, *o.held_by, static_cast<int>(i), o.X_palm_hold);
+  }
+  mj_forward(m, d);
+}
+
+void set_human_pose(const model::Model& model, Data& data, const human::SkeletonPose& pose) {
+  if (!model.has_human) return;
+  data.human_pose = pose;
+  data.human_pose_dirty = true;
+}
+
+void pose_human(const model::Model& model, Data& data) {
+  if (!model.has_human || !data.human_pose_dirty) return;
+  data.X_WJ = human::forward_kinematics(model.skeleton, data.human_pose);
+  mjData* d = data.mj.get();
+  for (size_t j = 0; j < human::kNumJoints; ++j) {
+    const int mocap = model.human_mocap[j];
+    const core::Pose& X = data.X_WJ[j];
+    mjtNum* pos = d->mocap_pos + 3 * mocap;
+    pos[0] = X.translation.x();
+    pos[1] = X.translation.y();
+    pos[2] = X.translation.z();
+    core::quat_to_wxyz(X.rotation, d->mocap_quat + 4 * mocap);
+  }
+  data.human_pose_dirty = false;
+}
+
+void step(const model::Model& model, Data& data) {
+  const mjModel* m = model.m();
+  mjData* d = data.mj.get();
+  pose_human(model, data);
+  apply_hold_wrenches(model, data);
+  // Gravity (and Coriolis) compensation of the arm, as the Panda's own controller does; the
+  // bias forces are those of the last forward pass (one step old).
+  for (const int dof : model.arm_dof_adr) d->qfrc_applied[dof] = d->qfrc_bias[dof];
+  mj_step(m, d);
+}
+
+void forward(const model::Model& model, Data& data) {
+  pose_human(model, data);
+  mj_forward(model.m(), data.mj.get());
+}
+
+int warning_count(const Data& data) {
+  int n = 0;
+  for (int i = 0; i < mjNWARNING; ++i) n += data.mj->warning[i].number;
+  return n;
+}
+
+std::string warning_summary(const Data& data) {
+  static const char* const kNames[mjNWARNING] = {"INERTIA", "CONTACTFULL", "CNSTRFULL",
+                                                 "VGEOMFULL", "BADQPOS",    "BADQVEL",
+                                                 "BADQACC",  "BADCTRL"};
+  std::ostringstream out;
+  for (int i = 0; i < mjNWARNING; ++i) {
+    const mjWarningStat& w = data.mj->warning[i];
+    if (w.number == 0) continue;
+    if (out.tellp() > 0) out << ", ";
+    out << kNames[i] << " x" << w.number << " (info " << w.lastinfo << ")";
+  }
+  return out.str();
+}
+
+}  // namespace hribench::sim

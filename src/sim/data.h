@@ -1,0 +1,97 @@
+#pragma once
+// The mutable state of one running episode (DESIGN.md §4): MuJoCo's mjData plus the robot's
+// controller targets, the human pose and the human's hold state. One Data per thread; the
+// Model it was made from is shared read-only and must outlive it.
+//
+// Stepping: step() advances the world by one 500 Hz physics step (model::kTimestep = 2 ms):
+// it poses the human mocap bodies from data.human_pose (forward kinematics only when the pose
+// changed since the last step), applies the human hold wrenches and the robot's gravity
+// compensation, then calls mj_step. It allocates nothing.
+//
+// Freshness: after step(), qpos/qvel/time are the new state, while MuJoCo's derived
+// quantities (xpos, site_xpos, contacts, ...) are those of the previous state (mj_step
+// computes them before integrating). Call forward() when you need them for the current state.
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <mujoco/mujoco.h>
+
+#include "core/math.h"
+#include "human/skeleton.h"
+#include "model/model.h"
+
+namespace hribench::sim {
+
+struct MjDataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+using MjDataPtr = std::unique_ptr<mjData, MjDataDeleter>;
+
+// A human hand holding an object (see sim/hold.h).
+struct HoldState {
+  int object = -1;         // object index in Model::objects, or -1 when the hand is empty
+  core::Pose X_palm_obj;   // pose of the object body in the palm frame, fixed at grasp time
+  bool has_last_target = false;
+  core::Pose X_W_last_target;  // target pose of the object at the previous step (for velocity)
+};
+
+struct Data {
+  MjDataPtr mj;        // never null after make_data()
+  MjDataPtr scratch;   // a second mjData for differential IK (never the simulated state)
+  std::vector<mjtNum> jacobian;  // 6 x nv scratch for IK (allocated by make_data)
+
+  // Robot controller targets (what the servos track; written to mj->ctrl).
+  std::array<double, model::kArmDof> q_target{};  // rad, within the joint limits
+  double gripper_width_target = model::kGripperMaxWidth;  // m, in [0, 0.08]
+
+  // Human (meaningful only if model.has_human).
+  human::SkeletonPose human_pose;                         // the pose to show at the next step
+  std::array<core::Pose, human::kNumJoints> X_WJ{};       // joint frames of the posed human
+  bool human_pose_dirty = true;                           // X_WJ/mocap not yet updated
+  std::array<HoldState, 2> hold{};                        // by static_cast<size_t>(Side)
+
+  double time() const { return mj->time; }  // simulated time since reset, s
+
+  Data() = default;
+  Data(Data&&) = default;
+  Data& operator=(Data&&) = default;
+  Data(const Data&) = delete;
+  Data& operator=(const Data&) = delete;
+};
+
+// Allocates a Data for `model` and resets it (reset()).
+Data make_data(const model::Model& model);
+
+// Resets to the start of an episode without allocating: the robot at the home keyframe
+// (fingers open, servo targets = home), objects at their spec poses (held objects in the hand),
+// the human at model.human_start, time 0, warning counts cleared; then mj_forward.
+void reset(const model::Model& model, Data& data);
+// As reset(), with the human starting at `human_start` (held objects are placed in the hand
+// of that pose).
+void reset(const model::Model& model, Data& data, const human::SkeletonPose& human_start);
+
+// Sets the human pose shown from the next step on. Call it every physics step for smooth
+// motion (the mocap bodies jump to the new pose). No-op without a human.
+void set_human_pose(const model::Model& model, Data& data, const human::SkeletonPose& pose);
+
+// Applies data.human_pose to the mocap bodies and data.X_WJ if it changed (forward
+// kinematics); step() and forward() call it. No-op without a human.
+void pose_human(const model::Model& model, Data& data);
+
+// One physics step (2 ms). Allocation-free.
+void step(const model::Model& model, Data& data);
+
+// Recomputes MuJoCo's derived quantities (positions, contacts, forces) for the current state
+// (mj_forward), after posing the human if its pose changed.
+void forward(const model::Model& model, Data& data);
+
+// MuJoCo warnings counted since the last reset (sum over mjData.warning[].number), and a
+// one-line description ("" if none), e.g. "BADQACC x1 (info 12)".
+int warning_count(const Data& data);
+std::string warning_summary(const Data& data);
+
+}  // namespace hribench::sim

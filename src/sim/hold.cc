@@ -1,0 +1,114 @@
+#include "sim/hold.h"
+
+#include "core/errors.h"
+
+namespace hribench::sim {
+namespace {
+
+constexpr double kHoldFrequency = 2 * core::kPi * 12;  // rad/s, critically damped
+
+}  // namespace
+
+core::Pose palm_pose(const model::Model& model, Data& data, human::Side side) {
+  HRIB_CHECK(model.has_human) << "palm_pose without a human";
+  pose_human(model, data);
+  const auto wrist = static_cast<size_t>(human::index(human::wrist(side)));
+  return data.X_WJ[wrist] * model.X_wrist_palm[static_cast<size_t>(side)];
+}
+
+void grasp_by_human(const model::Model& model, Data& data, human::Side side, int object,
+                    const core::Pose& X_palm_obj) {
+  HRIB_CHECK(model.has_human) << "grasp_by_human without a human";
+  HRIB_CHECK(object >= 0 && static_cast<size_t>(object) < model.objects.size())
+      << "object index " << object;
+  release_by_human(model, data, side);
+  for (HoldState& other : data.hold)  // an object is held by one hand at a time
+    if (other.object == object) other = HoldState{};
+  HoldState& h = data.hold[static_cast<size_t>(side)];
+  h.object = object;
+  h.X_palm_obj = X_palm_obj;
+  h.has_last_target = false;
+}
+
+void grasp_by_human(const model::Model& model, Data& data, human::Side side, int object) {
+  HRIB_CHECK(object >= 0 && static_cast<size_t>(object) < model.objects.size())
+      << "object index " << object;
+  const model::ObjectInfo& o = model.objects[static_cast<size_t>(object)];
+  const mjtNum* q = data.mj->qpos + o.qpos_adr;
+  core::Pose X_WO;
+  X_WO.translation = core::Vec3(q[0], q[1], q[2]);
+  X_WO.rotation = core::quat_from_wxyz(q + 3).normalized();
+  grasp_by_human(model, data, side, object, palm_pose(model, data, side).inverse() * X_WO);
+}
+
+void release_by_human(const model::Model& model, Data& data, human::Side side) {
+  HoldState& h = data.hold[static_cast<size_t>(side)];
+  if (h.object >= 0) {
+    const int body = model.objects[static_cast<size_t>(h.object)].body;
+    mju_zero(data.mj->xfrc_applied + 6 * body, 6);
+  }
+  h = HoldState{};
+}
+
+std::optional<int> held_object(const Data& data, human::Side side) {
+  const HoldState& h = data.hold[static_cast<size_t>(side)];
+  if (h.object < 0) return std::nullopt;
+  return h.object;
+}
+
+void apply_hold_wrenches(const model::Model& model, Data& data) {
+  const mjModel* m = model.m();
+  mjData* d = data.mj.get();
+  const double w = kHoldFrequency;
+  const double dt = m->opt.timestep;
+  for (const human::Side side : {human::Side::kLeft, human::Side::kRight}) {
+    HoldState& h = data.hold[static_cast<size_t>(side)];
+    if (h.object < 0) continue;
+    const model::ObjectInfo& o = model.objects[static_cast<size_t>(h.object)];
+    const int body = o.body;
+    const core::Pose X_WT = palm_pose(model, data, side) * h.X_palm_obj;
+    // Target velocity from the palm's motion since the last step (feed-forward).
+    core::Vec3 v_target = core::Vec3::Zero();
+    core::Vec3 w_target = core::Vec3::Zero();
+    if (h.has_last_target) {
+      v_target = (X_WT.translation - h.X_W_last_target.translation) / dt;
+      const Eigen::AngleAxisd dr(X_WT.rotation * h.X_W_last_target.rotation.conjugate());
+      w_target = dr.axis() * dr.angle() / dt;
+    }
+    h.X_W_last_target = X_WT;
+    h.has_last_target = true;
+    // Current state of the free body (qpos: position, quaternion; qvel: world linear velocity
+    // of the body origin, body-frame angular velocity).
+    const mjtNum* q = d->qpos + o.qpos_adr;
+    const mjtNum* qd = d->qvel + o.dof_adr;
+    const core::Vec3 p(q[0], q[1], q[2]);
+    const core::Quat r = core::quat_from_wxyz(q + 3).normalized();
+    const core::Vec3 omega = r * core::Vec3(qd[3], qd[4], qd[5]);
+    const core::Vec3 ipos(m->body_ipos[3 * body], m->body_ipos[3 * body + 1],
+                          m->body_ipos[3 * body + 2]);
+    const core::Vec3 com = p + r * ipos;
+    const core::Vec3 v_com = core::Vec3(qd[0], qd[1], qd[2]) + omega.cross(r * ipos);
+    const core::Vec3 com_target = X_WT * ipos;
+    const core::Vec3 v_com_target = v_target + w_target.cross(X_WT.rotation * ipos);
+    const double mass = m->body_subtreemass[body];
+    const core::Vec3 gravity(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
+    const core::Vec3 force =
+        mass * (w * w * (com_target - com) + 2 * w * (v_com_target - v_com) - gravity);
+    // Rotational spring-damper with the body's inertia tensor in world.
+    const Eigen::AngleAxisd err(X_WT.rotation * r.conjugate());
+    const core::Mat3 R_inertia =
+        (r * core::quat_from_wxyz(m->body_iquat + 4 * body)).toRotationMatrix();
+    const core::Vec3 principal(m->body_inertia[3 * body], m->body_inertia[3 * body + 1],
+                               m->body_inertia[3 * body + 2]);
+    const core::Mat3 inertia = R_inertia * principal.asDiagonal() * R_inertia.transpose();
+    const core::Vec3 torque =
+        inertia * (w * w * (err.axis() * err.angle()) + 2 * w * (w_target - omega));
+    mjtNum* xfrc = d->xfrc_applied + 6 * body;
+    for (int k = 0; k < 3; ++k) {
+      xfrc[k] = force[k];
+      xfrc[3 + k] = torque[k];
+    }
+  }
+}
+
+}  // namespace hribench::sim
