@@ -1,0 +1,235 @@
+#include "sim/contact.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/separation.h"
+
+namespace hribench::sim {
+namespace {
+
+using core::Vec3;
+using human::BodyRegion;
+
+TEST(GradeContact, UsesTheQuasiStaticAndTransientLimitsOfTheRegion) {
+  // Hand: 140 N quasi-static, 280 N transient.
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 0.0), ContactGrade::kNoForce);
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 1.0), ContactGrade::kWithinLimit);
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 140.0), ContactGrade::kWithinLimit);
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 140.5), ContactGrade::kAboveQuasiStatic);
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 280.0), ContactGrade::kAboveQuasiStatic);
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 280.5), ContactGrade::kCritical);
+  // Head: 130 N; 150 N is above it but below 260 N.
+  EXPECT_EQ(grade_contact(BodyRegion::kHead, 150.0), ContactGrade::kAboveQuasiStatic);
+  EXPECT_EQ(grade_contact(BodyRegion::kHead, 261.0), ContactGrade::kCritical);
+  // Thigh: 220 N.
+  EXPECT_EQ(grade_contact(BodyRegion::kThigh, 150.0), ContactGrade::kWithinLimit);
+  EXPECT_EQ(to_string(ContactGrade::kCritical), "critical");
+  EXPECT_EQ(to_string(ContactGrade::kAboveQuasiStatic), "above_quasi_static");
+}
+
+Contact RobotHumanContact(int human_geom, BodyRegion region, double force) {
+  Contact c;
+  c.a.geom = 1;
+  c.a.owner = model::GeomOwner::kRobotLink;
+  c.a.index = 5;
+  c.b.geom = human_geom;
+  c.b.owner = model::GeomOwner::kHuman;
+  c.b.region = region;
+  c.normal_force = force;
+  return c;
+}
+
+TEST(HumanContactLoads, SumsThePointsOfEachHumanGeomAndGradesThem) {
+  std::vector<Contact> contacts;
+  contacts.push_back(RobotHumanContact(40, BodyRegion::kHand, 100.0));
+  contacts.push_back(RobotHumanContact(12, BodyRegion::kForearm, 10.0));
+  contacts.push_back(RobotHumanContact(40, BodyRegion::kHand, 60.0));  // same geom: 160 N
+  Contact object_table;  // not robot-human: ignored
+  object_table.a.owner = model::GeomOwner::kObject;
+  object_table.b.owner = model::GeomOwner::kTable;
+  object_table.normal_force = 1000.0;
+  contacts.push_back(object_table);
+  std::vector<HumanContactLoad> loads;
+  human_contact_loads(contacts, &loads);
+  ASSERT_EQ(loads.size(), 2u);
+  EXPECT_EQ(loads[0].human_geom, 12);  // geom id order
+  EXPECT_DOUBLE_EQ(loads[0].normal_force, 10.0);
+  EXPECT_EQ(loads[0].grade, ContactGrade::kWithinLimit);
+  EXPECT_EQ(loads[1].human_geom, 40);
+  EXPECT_DOUBLE_EQ(loads[1].normal_force, 160.0);
+  EXPECT_EQ(loads[1].grade, ContactGrade::kAboveQuasiStatic);
+  EXPECT_EQ(worst_grade(loads), ContactGrade::kAboveQuasiStatic);
+  human_contact_loads({}, &loads);
+  EXPECT_TRUE(loads.empty());
+  EXPECT_EQ(worst_grade(loads), ContactGrade::kNoForce);
+}
+
+// The default scene with the robot at home and the human's right arm raised straight forward;
+// the human is moved so that its right hand sweeps sideways (along y) at the height of the
+// Panda's forearm (link 5), either through the robot or `beside_x` metres farther out.
+class HandSweep : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    model_ = model::build(model::SceneSpec::Default());
+    const mjModel* m = model_.m();
+    d_.reset(mj_makeData(m));
+    mj_resetDataKeyframe(m, d_.get(), mj_name2id(m, mjOBJ_KEY, "home"));
+    mj_forward(m, d_.get());
+    pose_ = human::SkeletonPose::Standing(model_.skeleton, 0, 0, core::kPi);
+    pose_.local[static_cast<size_t>(human::index(human::Joint::kRightShoulder))] =
+        core::axis_angle(Vec3::UnitY(), -core::kPi / 2);  // arm from hanging down to forward
+    for (size_t i = 0; i < model_.human_capsules.size(); ++i) {
+      if (model_.human_capsules[i].name == "right_hand") hand_capsule_ = i;
+    }
+  }
+
+  // Poses the human's mocap bodies from a skeleton pose.
+  void Pose(const human::SkeletonPose& pose) {
+    const auto X_WJ = human::forward_kinematics(model_.skeleton, pose);
+    for (size_t j = 0; j < X_WJ.size(); ++j) {
+      const int k = model_.human_mocap[j];
+      if (k < 0) continue;
+      for (int i = 0; i < 3; ++i) d_->mocap_pos[3 * k + i] = X_WJ[j].translation[i];
+      core::quat_to_wxyz(X_WJ[j].rotation, d_->mocap_quat + 4 * k);
+    }
+  }
+
+  struct SweepResult {
+    std::vector<Contact> robot_human;  // every robot–human contact seen
+    double min_distance = std::numeric_limits<double>::infinity();
+    BodyRegion min_region = BodyRegion::kTorso;
+  };
+
+  // Sweeps the hand from y = -0.6 to +0.6 in 1.2 s (1 m/s), stepping the physics at 500 Hz.
+  SweepResult Sweep(double beside_x) {
+    const mjModel* m = model_.m();
+    const Vec3 link5 = Vec3(d_->xpos[3 * model_.link_body[5]], d_->xpos[3 * model_.link_body[5] + 1],
+                            d_->xpos[3 * model_.link_body[5] + 2]);
+    // Hand capsule midpoint in world for the pose standing at the origin.
+    const auto X_WJ = human::forward_kinematics(model_.skeleton, pose_);
+    const human::BodyCapsule& hand = model_.human_capsules[hand_capsule_];
+    const Vec3 hand_mid = X_WJ[static_cast<size_t>(human::index(hand.joint))] *
+                          Vec3(0.5 * (hand.from + hand.to));
+    // Aim at the middle of link 5's capsule (0.115 m along the arm from the link 5 origin is
+    // inside the link whatever its exact length).
+    const Vec3 aim = link5 + Vec3(-0.12, 0, 0) + Vec3(beside_x, 0, 0);
+    const core::Pose start = pose_.X_WP;
+    const SeparationMonitor monitor = SeparationMonitor::FromModel(model_);
+    SweepResult result;
+    std::vector<Contact> contacts;
+    contacts.reserve(static_cast<size_t>(m->nconmax > 0 ? m->nconmax : 100));
+    constexpr int kSteps = 600;
+    for (int s = 0; s <= kSteps; ++s) {
+      human::SkeletonPose pose = pose_;
+      pose.X_WP.translation = start.translation + (aim - hand_mid) +
+                              Vec3(0, -0.6 + 1.2 * s / kSteps, 0);
+      Pose(pose);
+      for (int i = 0; i < model::kArmDof; ++i) {
+        d_->ctrl[model_.arm_actuator[static_cast<size_t>(i)]] =
+            model::kArmHome[static_cast<size_t>(i)];
+      }
+      mj_step(m, d_.get());
+      // Contacts and forces of the state mj_step just solved.
+      find_contacts(model_, *m, *d_, &contacts);
+      for (const Contact& c : contacts) {
+        if (c.involves_human()) result.robot_human.push_back(c);
+      }
+      mj_forward(m, d_.get());
+      const Separation sep = min_separation(monitor, *d_);
+      if (sep.distance < result.min_distance) {
+        result.min_distance = sep.distance;
+        result.min_region = sep.region;
+      }
+    }
+    for (int w = 0; w < mjNWARNING; ++w) {
+      EXPECT_EQ(d_->warning[w].number, 0) << "MuJoCo warning " << w;
+    }
+    return result;
+  }
+
+  model::Model model_;
+  std::unique_ptr<mjData, void (*)(mjData*)> d_{nullptr, mj_deleteData};
+  human::SkeletonPose pose_;
+  size_t hand_capsule_ = 0;
+};
+
+TEST_F(HandSweep, ThroughTheRobotGivesAHandContactWithForce) {
+  const SweepResult r = Sweep(0.0);
+  ASSERT_FALSE(r.robot_human.empty());
+  double hand_force = 0;
+  for (const Contact& c : r.robot_human) {
+    // Robot first, human second; the human party is a human geom with its tagged region.
+    EXPECT_TRUE(c.robot_human()) << party_name(model_, c.a) << " - " << party_name(model_, c.b);
+    ASSERT_NE(c.human(), nullptr);
+    EXPECT_EQ(c.human()->region,
+              model_.geom_tags[static_cast<size_t>(c.human()->geom)].region);
+    EXPECT_GE(c.normal_force, 0.0);
+    if (c.b.region == BodyRegion::kHand) {
+      hand_force = std::max(hand_force, c.normal_force);
+      const std::string name = party_name(model_, c.b);
+      EXPECT_EQ(name, "human:right_hand (hand)");
+    }
+  }
+  EXPECT_GT(hand_force, 0.0);
+  // The separation agrees: the hand penetrated the robot at some point.
+  EXPECT_LT(r.min_distance, 0.0);
+}
+
+TEST_F(HandSweep, BesideTheRobotGivesNoContact) {
+  const SweepResult r = Sweep(0.45);
+  EXPECT_TRUE(r.robot_human.empty()) << r.robot_human.size() << " contacts, first "
+                                     << party_name(model_, r.robot_human.front().a);
+  // It passed close, but not touching.
+  EXPECT_GT(r.min_distance, 0.0);
+  EXPECT_LT(r.min_distance, 0.3);
+  EXPECT_EQ(r.min_region, BodyRegion::kHand);
+}
+
+TEST(PartyName, NamesRobotPartsObjectsAndSurfaces) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  ContactParty p;
+  p.owner = model::GeomOwner::kRobotLink;
+  p.index = 3;
+  EXPECT_EQ(party_name(model, p), "link3");
+  p.owner = model::GeomOwner::kRobotFinger;
+  p.index = 1;
+  EXPECT_EQ(party_name(model, p), "right_finger");
+  p.owner = model::GeomOwner::kObject;
+  p.index = 0;
+  EXPECT_EQ(party_name(model, p), "object:" + model.objects[0].name);
+  p.owner = model::GeomOwner::kTable;
+  EXPECT_EQ(party_name(model, p), "table");
+}
+
+TEST(FindContacts, ObjectsRestingOnTheTableAreObjectFirstWithTheirWeight) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  const mjModel* m = model.m();
+  std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
+  mj_resetDataKeyframe(m, d.get(), mj_name2id(m, mjOBJ_KEY, "home"));
+  for (int s = 0; s < 250; ++s) mj_step(m, d.get());  // let everything settle (0.5 s)
+  mj_forward(m, d.get());
+  const std::vector<Contact> contacts = find_contacts(model, *d);
+  // The cube (object 0) rests on the table: its contacts carry its weight, normal pointing
+  // from the object to the table (downwards).
+  double cube_force = 0;
+  for (const Contact& c : contacts) {
+    if (c.a.owner == model::GeomOwner::kObject && c.a.index == 0 &&
+        c.b.owner == model::GeomOwner::kTable) {
+      cube_force += c.normal_force;
+      EXPECT_LT(c.normal_W.z(), -0.9);
+      EXPECT_NEAR(c.position_W.z(), model::kTableTopZ, 0.01);
+    }
+    EXPECT_FALSE(c.involves_human());
+  }
+  const double weight = model.objects[0].mass * -m->opt.gravity[2];
+  EXPECT_NEAR(cube_force, weight, 0.05 * weight);
+  for (int w = 0; w < mjNWARNING; ++w) EXPECT_EQ(d->warning[w].number, 0);
+}
+
+}  // namespace
+}  // namespace hribench::sim
