@@ -86,7 +86,11 @@ struct ObjectPose {
 
 // The state track: what a perfect perception system would report.
 struct StateObservation {
-  std::array<core::Vec3, kHumanKeypoints> human_joints_W{};  // SMPL joint positions, world
+  std::array<core::Vec3, kHumanKeypoints> human_joints_W = [] {  // SMPL joint positions, world
+    std::array<core::Vec3, kHumanKeypoints> joints;
+    joints.fill(core::Vec3::Zero());
+    return joints;
+  }();
   std::vector<ObjectPose> objects;                           // sorted by name
 };
 

@@ -1,0 +1,64 @@
+#pragma once
+// Every threshold of the metrics (METRICS.md), in this one place. Results files print the
+// values used (constant_table), and docs/metrics.md documents each.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hribench::eval {
+
+struct MetricConstants {
+  // Robot motion state. Moving: end-effector speed above moving_ee_speed or gripper width
+  // changing faster than moving_gripper_rate, for at least moving_sustain. Still: speed below
+  // still_ee_speed and gripper rate below still_gripper_rate, for at least still_sustain.
+  double moving_ee_speed = 0.02;      // m/s
+  double moving_gripper_rate = 0.01;  // m/s
+  double moving_sustain = 0.1;        // s
+  double still_ee_speed = 0.01;       // m/s
+  double still_gripper_rate = 0.005;  // m/s ("gripper static"; METRICS.md gives no number)
+  double still_sustain = 0.2;         // s
+  // Response onset: velocity component toward the response goal (go cues, robot act onsets)
+  // or away from the human (intrusion cues) above response_speed for response_sustain.
+  double response_speed = 0.02;          // m/s
+  double response_sustain = 0.1;         // s
+  double goal_reached_distance = 0.01;   // m: closer than this, "toward the goal" is undefined
+  // Success must hold continuously for the last success_hold seconds.
+  double success_hold = 0.5;  // s
+  // CFR: unintended robot–environment collision.
+  double environment_collision_force = 20.0;  // N, non-finger robot part on the environment
+  double any_collision_force = 150.0;         // N, any robot contact
+  // HCS: ISO/TS 15066 speed-and-separation monitoring.
+  double monitored_distance = 1.0;       // m: T_monitored counts d(t) <= this
+  double human_speed = 1.6;              // m/s, v_h
+  double human_speed_near = 2.0;         // m/s, v_h when d < human_speed_near_distance
+  double human_speed_near_distance = 0.5;  // m
+  double reaction_time = 0.1;            // s, T_r
+  double stop_deceleration = 3.0;        // m/s^2, a_stop
+  double intrusion_distance = 0.0;       // m, C
+  double position_uncertainty = 0.05;    // m, Z_d + Z_r
+  double permitted_speed = 0.25;         // m/s: in a permitted phase, faster than this ...
+  double permitted_distance = 0.10;      // m: ... while closer than this is a violation
+  double transient_factor = 2.0;         // critical contact: force > factor x quasi-static
+  // Failure labels.
+  double desync_below = 0.5;             // TSync below this: "desync"
+  double unsafe_proximity_below = 0.9;   // HCS below this: "unsafe_proximity"
+  // Comparisons of times allow this slack (20 Hz times are not exact in binary).
+  double time_epsilon = 1e-9;  // s
+  // Aggregation.
+  double confidence = 0.95;          // two-sided interval level
+  double wilson_z = 1.959963984540054;  // standard normal quantile for `confidence`
+  int bootstrap_resamples = 2000;
+  uint64_t bootstrap_seed = 20240917;
+};
+
+struct NamedConstant {
+  std::string name;  // the member's name, e.g. "moving_ee_speed"
+  double value = 0;
+  std::string unit;  // "m/s", "s", "N", "m", "" (dimensionless), "count"
+};
+
+// Every member of `constants`, in declaration order.
+std::vector<NamedConstant> constant_table(const MetricConstants& constants);
+
+}  // namespace hribench::eval
