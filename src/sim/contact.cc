@@ -54,11 +54,19 @@ void find_contacts(const model::Model& model, const mjModel& m, const mjData& d,
   }
 }
 
+void find_contacts(const model::Model& model, const Data& data, std::vector<Contact>* out) {
+  find_contacts(model, *model.m(), *data.mj, out);
+}
+
 std::vector<Contact> find_contacts(const model::Model& model, const mjData& d) {
   std::vector<Contact> out;
   out.reserve(static_cast<size_t>(d.ncon));
   find_contacts(model, *model.m(), d, &out);
   return out;
+}
+
+std::vector<Contact> find_contacts(const model::Model& model, const Data& data) {
+  return find_contacts(model, *data.mj);
 }
 
 std::string party_name(const model::Model& model, const ContactParty& party) {

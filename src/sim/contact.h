@@ -17,6 +17,7 @@
 #include "core/math.h"
 #include "human/skeleton.h"
 #include "model/model.h"
+#include "sim/data.h"
 
 namespace hribench::sim {
 
@@ -55,8 +56,12 @@ struct Contact {
 // Allocation-free once `out` has capacity for d.ncon contacts.
 void find_contacts(const model::Model& model, const mjModel& m, const mjData& d,
                    std::vector<Contact>* out);
+// The same on a running episode's Data: after step() these are the contacts and forces that
+// the step solved (those of the state before integration); after forward() the current ones.
+void find_contacts(const model::Model& model, const Data& data, std::vector<Contact>* out);
 // Convenience (allocates).
 std::vector<Contact> find_contacts(const model::Model& model, const mjData& d);
+std::vector<Contact> find_contacts(const model::Model& model, const Data& data);
 
 // A readable name of a party, e.g. "link3", "hand", "left_finger", "human:right_hand (hand)",
 // "object:cube0", "table", "floor".

@@ -104,8 +104,16 @@ Separation min_separation(const SeparationMonitor& monitor, const mjData& d) {
   return best;
 }
 
+Separation min_separation(const SeparationMonitor& monitor, const Data& data) {
+  return min_separation(monitor, *data.mj);
+}
+
 Separation min_separation(const model::Model& model, const mjData& d) {
   return min_separation(SeparationMonitor::FromModel(model), d);
+}
+
+Separation min_separation(const model::Model& model, const Data& data) {
+  return min_separation(model, *data.mj);
 }
 
 }  // namespace hribench::sim

@@ -20,6 +20,7 @@
 #include "core/math.h"
 #include "human/skeleton.h"
 #include "model/model.h"
+#include "sim/data.h"
 #include "sim/distance.h"
 
 namespace hribench::sim {
@@ -58,8 +59,12 @@ struct SeparationMonitor {
 // Ties keep the pair with the lowest (robot geom, human geom) ids. Allocation-free.
 Separation min_separation(const SeparationMonitor& monitor, const mjData& d);
 
+// The same on a running episode's Data (positions as of its last mj_step / forward()).
+Separation min_separation(const SeparationMonitor& monitor, const Data& data);
+
 // Convenience for one-off queries: builds the monitor (allocates) and queries it.
 Separation min_separation(const model::Model& model, const mjData& d);
+Separation min_separation(const model::Model& model, const Data& data);
 
 // Distance between one robot geom and one human geom of the monitor (indices into
 // monitor.robot / monitor.human), without any pruning. For tests and diagnostics.

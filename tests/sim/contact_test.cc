@@ -3,11 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "sim/data.h"
 #include "sim/separation.h"
+#include "support/mujoco_fixture.h"
 
 namespace hribench::sim {
 namespace {
@@ -70,16 +73,16 @@ TEST(HumanContactLoads, SumsThePointsOfEachHumanGeomAndGradesThem) {
 }
 
 // The default scene with the robot at home and the human's right arm raised straight forward;
-// the human is moved so that its right hand sweeps sideways (along y) at the height of the
-// Panda's forearm (link 5), either through the robot or `beside_x` metres farther out.
-class HandSweep : public ::testing::Test {
+// the human is moved (by setting its skeleton pose every physics step) so that its right hand
+// sweeps sideways (along y) at the height of the Panda's forearm (link 5), either through the
+// robot or `beside_x` metres farther out.
+class HandSweep : public testing::MujocoTest {
  protected:
   void SetUp() override {
+    MujocoTest::SetUp();
     model_ = model::build(model::SceneSpec::Default());
-    const mjModel* m = model_.m();
-    d_.reset(mj_makeData(m));
-    mj_resetDataKeyframe(m, d_.get(), mj_name2id(m, mjOBJ_KEY, "home"));
-    mj_forward(m, d_.get());
+    data_ = make_data(model_);
+    Watch(data_.mj.get());
     pose_ = human::SkeletonPose::Standing(model_.skeleton, 0, 0, core::kPi);
     pose_.local[static_cast<size_t>(human::index(human::Joint::kRightShoulder))] =
         core::axis_angle(Vec3::UnitY(), -core::kPi / 2);  // arm from hanging down to forward
@@ -88,72 +91,53 @@ class HandSweep : public ::testing::Test {
     }
   }
 
-  // Poses the human's mocap bodies from a skeleton pose.
-  void Pose(const human::SkeletonPose& pose) {
-    const auto X_WJ = human::forward_kinematics(model_.skeleton, pose);
-    for (size_t j = 0; j < X_WJ.size(); ++j) {
-      const int k = model_.human_mocap[j];
-      if (k < 0) continue;
-      for (int i = 0; i < 3; ++i) d_->mocap_pos[3 * k + i] = X_WJ[j].translation[i];
-      core::quat_to_wxyz(X_WJ[j].rotation, d_->mocap_quat + 4 * k);
-    }
-  }
-
   struct SweepResult {
-    std::vector<Contact> robot_human;  // every robot–human contact seen
+    std::vector<Contact> robot_human;  // every contact involving the human
     double min_distance = std::numeric_limits<double>::infinity();
     BodyRegion min_region = BodyRegion::kTorso;
   };
 
   // Sweeps the hand from y = -0.6 to +0.6 in 1.2 s (1 m/s), stepping the physics at 500 Hz.
   SweepResult Sweep(double beside_x) {
-    const mjModel* m = model_.m();
-    const Vec3 link5 = Vec3(d_->xpos[3 * model_.link_body[5]], d_->xpos[3 * model_.link_body[5] + 1],
-                            d_->xpos[3 * model_.link_body[5] + 2]);
+    const mjData& d = *data_.mj;
+    const auto link5_body = static_cast<size_t>(model_.link_body[5]);
+    const Vec3 link5(d.xpos[3 * link5_body], d.xpos[3 * link5_body + 1],
+                     d.xpos[3 * link5_body + 2]);
     // Hand capsule midpoint in world for the pose standing at the origin.
     const auto X_WJ = human::forward_kinematics(model_.skeleton, pose_);
     const human::BodyCapsule& hand = model_.human_capsules[hand_capsule_];
     const Vec3 hand_mid = X_WJ[static_cast<size_t>(human::index(hand.joint))] *
                           Vec3(0.5 * (hand.from + hand.to));
-    // Aim at the middle of link 5's capsule (0.115 m along the arm from the link 5 origin is
-    // inside the link whatever its exact length).
-    const Vec3 aim = link5 + Vec3(-0.12, 0, 0) + Vec3(beside_x, 0, 0);
-    const core::Pose start = pose_.X_WP;
+    // Aim at link 5's forearm capsule, 0.12 m back from the link 5 origin toward the elbow.
+    const Vec3 aim = link5 + Vec3(-0.12 + beside_x, 0, 0);
+    const Vec3 start = pose_.X_WP.translation;
     const SeparationMonitor monitor = SeparationMonitor::FromModel(model_);
     SweepResult result;
     std::vector<Contact> contacts;
-    contacts.reserve(static_cast<size_t>(m->nconmax > 0 ? m->nconmax : 100));
+    contacts.reserve(256);
     constexpr int kSteps = 600;
     for (int s = 0; s <= kSteps; ++s) {
       human::SkeletonPose pose = pose_;
-      pose.X_WP.translation = start.translation + (aim - hand_mid) +
-                              Vec3(0, -0.6 + 1.2 * s / kSteps, 0);
-      Pose(pose);
-      for (int i = 0; i < model::kArmDof; ++i) {
-        d_->ctrl[model_.arm_actuator[static_cast<size_t>(i)]] =
-            model::kArmHome[static_cast<size_t>(i)];
-      }
-      mj_step(m, d_.get());
-      // Contacts and forces of the state mj_step just solved.
-      find_contacts(model_, *m, *d_, &contacts);
+      pose.X_WP.translation = start + (aim - hand_mid) + Vec3(0, -0.6 + 1.2 * s / kSteps, 0);
+      set_human_pose(model_, data_, pose);
+      step(model_, data_);
+      // Contacts and forces of the state the step just solved.
+      find_contacts(model_, data_, &contacts);
       for (const Contact& c : contacts) {
         if (c.involves_human()) result.robot_human.push_back(c);
       }
-      mj_forward(m, d_.get());
-      const Separation sep = min_separation(monitor, *d_);
+      forward(model_, data_);
+      const Separation sep = min_separation(monitor, data_);
       if (sep.distance < result.min_distance) {
         result.min_distance = sep.distance;
         result.min_region = sep.region;
       }
     }
-    for (int w = 0; w < mjNWARNING; ++w) {
-      EXPECT_EQ(d_->warning[w].number, 0) << "MuJoCo warning " << w;
-    }
     return result;
   }
 
   model::Model model_;
-  std::unique_ptr<mjData, void (*)(mjData*)> d_{nullptr, mj_deleteData};
+  Data data_;
   human::SkeletonPose pose_;
   size_t hand_capsule_ = 0;
 };
@@ -190,7 +174,9 @@ TEST_F(HandSweep, BesideTheRobotGivesNoContact) {
   EXPECT_EQ(r.min_region, BodyRegion::kHand);
 }
 
-TEST(PartyName, NamesRobotPartsObjectsAndSurfaces) {
+class PartyName : public testing::MujocoTest {};
+
+TEST_F(PartyName, NamesRobotPartsObjectsAndSurfaces) {
   const model::Model model = model::build(model::SceneSpec::Default());
   ContactParty p;
   p.owner = model::GeomOwner::kRobotLink;
@@ -206,14 +192,14 @@ TEST(PartyName, NamesRobotPartsObjectsAndSurfaces) {
   EXPECT_EQ(party_name(model, p), "table");
 }
 
-TEST(FindContacts, ObjectsRestingOnTheTableAreObjectFirstWithTheirWeight) {
+class FindContacts : public testing::MujocoTest {};
+
+TEST_F(FindContacts, ObjectsRestingOnTheTableAreObjectFirstWithTheirWeight) {
   const model::Model model = model::build(model::SceneSpec::Default());
-  const mjModel* m = model.m();
-  std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
-  mj_resetDataKeyframe(m, d.get(), mj_name2id(m, mjOBJ_KEY, "home"));
-  for (int s = 0; s < 250; ++s) mj_step(m, d.get());  // let everything settle (0.5 s)
-  mj_forward(m, d.get());
-  const std::vector<Contact> contacts = find_contacts(model, *d);
+  Data data = make_data(model);
+  for (int s = 0; s < 250; ++s) step(model, data);  // let everything settle (0.5 s)
+  forward(model, data);
+  const std::vector<Contact> contacts = find_contacts(model, data);
   // The cube (object 0) rests on the table: its contacts carry its weight, normal pointing
   // from the object to the table (downwards).
   double cube_force = 0;
@@ -226,9 +212,9 @@ TEST(FindContacts, ObjectsRestingOnTheTableAreObjectFirstWithTheirWeight) {
     }
     EXPECT_FALSE(c.involves_human());
   }
-  const double weight = model.objects[0].mass * -m->opt.gravity[2];
+  const double weight = model.objects[0].mass * -model.m()->opt.gravity[2];
   EXPECT_NEAR(cube_force, weight, 0.05 * weight);
-  for (int w = 0; w < mjNWARNING; ++w) EXPECT_EQ(d->warning[w].number, 0);
+  ExpectNoWarnings(data.mj.get());
 }
 
 }  // namespace

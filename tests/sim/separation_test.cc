@@ -8,6 +8,8 @@
 #include <string>
 
 #include "core/rng.h"
+#include "sim/data.h"
+#include "support/mujoco_fixture.h"
 
 namespace hribench::sim {
 namespace {
@@ -94,7 +96,12 @@ std::unique_ptr<Scene> LoadScene() {
   return scene;
 }
 
-TEST(SeparationMonitor, ListsCollidingRobotAndHumanGeomsOnly) {
+// Every test fails on any MuJoCo warning (the loader's and mj_forward's, via the fixture; the
+// mjData counters are checked in Scene::Place).
+class SeparationMonitorTest : public testing::MujocoTest {};
+class MinSeparation : public testing::MujocoTest {};
+
+TEST_F(SeparationMonitorTest, ListsCollidingRobotAndHumanGeomsOnly) {
   auto s = LoadScene();
   const SeparationMonitor monitor = SeparationMonitor::FromModel(s->model);
   ASSERT_EQ(monitor.robot.size(), 3u);  // box, arm capsule, finger cylinder; not the visual
@@ -108,7 +115,7 @@ TEST(SeparationMonitor, ListsCollidingRobotAndHumanGeomsOnly) {
   EXPECT_EQ(monitor.human[1].region, human::BodyRegion::kForearm);
 }
 
-TEST(MinSeparation, MatchesHandComputedDistances) {
+TEST_F(MinSeparation, MatchesHandComputedDistances) {
   auto s = LoadScene();
   const SeparationMonitor monitor = SeparationMonitor::FromModel(s->model);
   // Box: x in [-0.1, 0.1], y in [-0.05, 0.05], z in [0.3, 0.7]. Arm capsule: axis x = y = 0,
@@ -162,7 +169,7 @@ TEST(MinSeparation, MatchesHandComputedDistances) {
   EXPECT_EQ(sep.robot_geom, s->geom("r_cyl"));
 }
 
-TEST(MinSeparation, EqualsTheMinimumOverAllPairsOnRandomPlacements) {
+TEST_F(MinSeparation, EqualsTheMinimumOverAllPairsOnRandomPlacements) {
   auto s = LoadScene();
   const SeparationMonitor monitor = SeparationMonitor::FromModel(s->model);
   core::Rng rng(3);
@@ -192,7 +199,7 @@ TEST(MinSeparation, EqualsTheMinimumOverAllPairsOnRandomPlacements) {
   }
 }
 
-TEST(MinSeparation, InfiniteWithoutHumanGeoms) {
+TEST_F(MinSeparation, InfiniteWithoutHumanGeoms) {
   auto s = LoadScene();
   for (GeomTag& tag : s->model.geom_tags) {
     if (tag.is_human()) tag.owner = GeomOwner::kOther;
@@ -200,6 +207,80 @@ TEST(MinSeparation, InfiniteWithoutHumanGeoms) {
   const Separation sep = min_separation(s->model, s->d());
   EXPECT_FALSE(sep.valid());
   EXPECT_TRUE(std::isinf(sep.distance));
+}
+
+// The real scene (model::build) with the human posed through sim::set_human_pose.
+class SceneSeparation : public testing::MujocoTest {
+ protected:
+  void SetUp() override {
+    MujocoTest::SetUp();
+    model_ = model::build(model::SceneSpec::Default());
+    data_ = make_data(model_);
+    Watch(data_.mj.get());
+  }
+  model::Model model_;
+  Data data_;
+};
+
+TEST_F(SceneSeparation, HandTipBesideTheBaseCylinderIsAtTheHandComputedDistance) {
+  // The robot base (link 0) cylinder, read from the model: axis vertical, radius r_base.
+  int base = -1;
+  for (int g = 0; g < model_.m()->ngeom; ++g) {
+    const GeomTag& tag = model_.geom_tags[static_cast<size_t>(g)];
+    if (tag.owner == GeomOwner::kRobotLink && tag.index == 0 &&
+        model_.m()->geom_type[g] == mjGEOM_CYLINDER) {
+      base = g;
+    }
+  }
+  ASSERT_GE(base, 0);
+  const mjData& d = *data_.mj;
+  const auto b = static_cast<size_t>(base);
+  const Vec3 centre(d.geom_xpos[3 * b], d.geom_xpos[3 * b + 1], d.geom_xpos[3 * b + 2]);
+  ASSERT_NEAR(std::abs(d.geom_xmat[9 * b + 8]), 1.0, 1e-12);  // axis along world z
+  const double r_base = model_.m()->geom_size[3 * b];
+
+  // The right arm raised straight forward, the person facing -x (toward the robot): the hand
+  // capsule lies along -x. Put its tip (the segment's far end) `gap` + radii from the axis.
+  human::SkeletonPose pose = human::SkeletonPose::Standing(model_.skeleton, 0, 0, core::kPi);
+  pose.local[static_cast<size_t>(human::index(human::Joint::kRightShoulder))] =
+      core::axis_angle(Vec3::UnitY(), -core::kPi / 2);
+  const human::BodyCapsule* hand = nullptr;
+  for (const human::BodyCapsule& c : model_.human_capsules) {
+    if (c.name == "right_hand") hand = &c;
+  }
+  ASSERT_NE(hand, nullptr);
+  const auto X_WJ = human::forward_kinematics(model_.skeleton, pose);
+  const Vec3 tip = X_WJ[static_cast<size_t>(human::index(hand->joint))] * hand->to;
+  for (const double gap : {0.10, 0.16}) {
+    const Vec3 want_tip = centre + Vec3(r_base + hand->radius + gap, 0, 0);
+    human::SkeletonPose placed = pose;
+    placed.X_WP.translation += want_tip - tip;
+    set_human_pose(model_, data_, placed);
+    forward(model_, data_);
+    const Separation sep = min_separation(model_, data_);
+    EXPECT_NEAR(sep.distance, gap, 1e-9);
+    EXPECT_EQ(sep.robot_geom, base);
+    EXPECT_EQ(sep.region, human::BodyRegion::kHand);
+    EXPECT_NEAR((sep.point_robot_W - (centre + Vec3(r_base, 0, 0))).norm(), 0.0, 1e-9);
+  }
+}
+
+TEST_F(SceneSeparation, MovingTheHumanAlongTheSeparationNormalAddsExactlyThatDistance) {
+  // The default scene: the human stands at the far table edge facing the robot at home.
+  const SeparationMonitor monitor = SeparationMonitor::FromModel(model_);
+  const Separation before = min_separation(monitor, data_);
+  ASSERT_TRUE(before.valid());
+  EXPECT_GT(before.distance, 0.3);
+  EXPECT_LT(before.distance, 1.2);
+  const Vec3 n = (before.point_human_W - before.point_robot_W).normalized();
+  human::SkeletonPose moved = model_.human_start;
+  moved.X_WP.translation += 0.05 * n;
+  set_human_pose(model_, data_, moved);
+  forward(model_, data_);
+  const Separation after = min_separation(monitor, data_);
+  EXPECT_NEAR(after.distance, before.distance + 0.05, 1e-9);
+  EXPECT_EQ(after.robot_geom, before.robot_geom);
+  EXPECT_EQ(after.human_geom, before.human_geom);
 }
 
 }  // namespace
