@@ -135,8 +135,10 @@ ArmSolution solve_arm(const Skeleton& skeleton, SkeletonPose& pose, Side side,
   Quat wrist_q = Quat::Identity();
   if (target.hand) {
     const Quat R_W_fore = (R_W_upper * elbow_q).normalized();
-    wrist_q = clamp_swing_twist((R_W_fore.conjugate() * *target.hand).normalized(), Vec3::UnitZ(),
-                                85 * kDeg, 75 * kDeg);
+    const Quat wanted = (R_W_fore.conjugate() * *target.hand).normalized();
+    const Quat swing_only = (wanted * twist_part(wanted, Vec3::UnitZ()).conjugate()).normalized();
+    wrist_q = clamp_swing_twist(wanted.slerp(std::clamp(target.free_roll, 0.0, 1.0), swing_only),
+                                Vec3::UnitZ(), 85 * kDeg, 75 * kDeg);
   }
   pose.local[static_cast<size_t>(index(wr))] = wrist_q;
   return out;
@@ -169,9 +171,11 @@ void lean_spine(const Skeleton& skeleton, SkeletonPose& pose, const Vec3& direct
 }
 
 double lean_for_reach(const Skeleton& skeleton, const SkeletonPose& pose, Side side,
-                      const Vec3& wrist, double reach_fraction, double max_lean) {
+                      const Vec3& wrist, double reach_fraction, double max_lean,
+                      std::optional<Vec3> direction) {
   const double reach = reach_fraction * arm_length(skeleton, side);
-  const Vec3 dir = pose.X_WP.rotation.conjugate() * (wrist - pose.X_WP.translation);
+  const Vec3 dir = direction ? *direction
+                             : Vec3(pose.X_WP.rotation.conjugate() * (wrist - pose.X_WP.translation));
   const auto excess = [&](double angle) {
     SkeletonPose p = pose;
     lean_spine(skeleton, p, dir, angle);

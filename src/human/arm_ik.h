@@ -35,6 +35,9 @@ struct ArmTarget {
   double swivel = 0;
   // Desired world rotation of the hand (wrist frame); nullopt keeps the wrist straight.
   std::optional<core::Quat> hand;
+  // In [0, 1]: how much of the hand's roll about the fingers is left to the forearm. 1 imposes
+  // only the finger direction (pointing), 0 the whole rotation.
+  double free_roll = 0;
 };
 
 struct ArmSolution {
@@ -59,11 +62,12 @@ ArmSolution solve_arm(const Skeleton& skeleton, SkeletonPose& pose, Side side,
 void lean_spine(const Skeleton& skeleton, SkeletonPose& pose, const core::Vec3& direction,
                 double angle);
 
-// Smallest lean (rad, at most max_lean) toward the wrist target's horizontal direction that
-// brings the shoulder of `side` within reach_fraction * arm_length of `wrist` (world); 0 when
-// already within reach. `pose` is not leaned yet.
+// Smallest lean (rad, at most max_lean) toward `direction` (pelvis frame; default: toward the
+// wrist target) that brings the shoulder of `side` within reach_fraction * arm_length of `wrist`
+// (world); 0 when already within reach. `pose` is not leaned yet.
 double lean_for_reach(const Skeleton& skeleton, const SkeletonPose& pose, Side side,
-                      const core::Vec3& wrist, double reach_fraction, double max_lean);
+                      const core::Vec3& wrist, double reach_fraction, double max_lean,
+                      std::optional<core::Vec3> direction = std::nullopt);
 
 // Human joint-angle limits (degrees), generous ranges from clinical norms: elbow flexion
 // 0-150 (hyperextension <= 10), wrist swing <= 80 and pro/supination <= 90, shoulder humeral

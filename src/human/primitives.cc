@@ -175,7 +175,7 @@ std::vector<PrimitiveInfo> build_catalog() {
                 num("raise", "s", 0.6, 0.2, 2, "raise"), num("gesture", "s", 1.5, 0.3, 60, "gesture"),
                 num("cycles", "1", 2, 1, 6, "wave-off sweeps"),
                 num("amplitude", "deg", 30, 10, 50, "wave-off sweep amplitude"),
-                num("lower", "s", 0.6, 0, 2, "lower"), tremor()}});
+                num("lower", "s", 0.6, 0, 2, "lower"), swivel(), tremor()}});
   c.push_back({"your_turn", "your-turn gesture: open palm up sweeping toward the robot", true,
                {ph("raise", "hand comes up near the body"),
                 ph("gesture", "palm-up sweep toward the target"), ph("hold", "presenting"),
@@ -284,10 +284,12 @@ std::vector<PrimitiveInfo> build_catalog() {
                 palm({"down", "medial"}, "down"), swivel(), via(), decel(0.5), tremor()}});
   c.push_back({"withdraw", "pull the hand back quickly (keeps what it holds)", true,
                {ph("withdraw", "hand returns to the side")},
-               {onset(), hand(), num("duration", "s", 0.6, 0.2, 3, "withdraw"), tremor()}});
+               {onset(), hand(), object("the object in the hand, if any"),
+                num("duration", "s", 0.6, 0.2, 3, "withdraw"), tremor()}});
   c.push_back({"release_retract", "open the hand, then bring it back", true,
                {ph("release", "hand opens"), ph("retract", "hand returns to the side")},
-               {onset(), hand(), num("release", "s", 0.3, 0.1, 1, "release"),
+               {onset(), hand(), object("the object let go"),
+                num("release", "s", 0.3, 0.1, 1, "release"),
                 num("retract", "s", 0.8, 0.2, 3, "retract"), tremor()}});
   return c;
 }
