@@ -98,7 +98,11 @@ class Parser {
            quote_token(frames_token.text));
     }
     const int frames_line = frames_token.line;
-    expect_keyword("Frame");
+    {
+      const int line = peek_line();
+      const std::string got = peek_text();
+      if (!iequals(next("'Frame Time:'").text, "Frame")) fail(line, "'Frame Time:'", got);
+    }
     parse_header_number("Time");
     const Token dt_token = next("the frame time in seconds after 'Frame Time:'");
     const auto dt = parse_double(dt_token.text);
@@ -159,7 +163,7 @@ class Parser {
     const Token t = next(what);
     const auto v = parse_double(t.text);
     if (!v) fail(line, std::string(what), got);
-    if (!std::isfinite(*v)) fail(line, fmt::format("a finite {}", what), got);
+    if (!std::isfinite(*v)) fail(line, fmt::format("a finite {}", what.substr(2)), got);
     return *v;
   }
   Vec3 offset() {

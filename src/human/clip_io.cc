@@ -61,7 +61,7 @@ class Reader {
   }
   const Json& array(const Json& v, const std::string& path, size_t size) const {
     if (!v.is_array() || (size != 0 && v.size() != size)) {
-      fail(path, size ? fmt::format("an array of {} numbers", size) : "an array", v);
+      fail(path, size ? fmt::format("an array of {} entries", size) : "an array", v);
     }
     return v;
   }

@@ -1,0 +1,220 @@
+#include "human/clip_io.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/errors.h"
+#include "human/bvh.h"
+#include "human/npy.h"
+#include "human/motion_fixtures.h"
+
+namespace hribench::human {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temp_dir() {
+  const fs::path dir = fs::temp_directory_path() / "hribench_clip_io_test";
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The malformed-input corpus: every file gives one clear InputError naming the file and the
+// position (line, byte offset or key).
+struct BadFile {
+  const char* file;
+  const char* message;  // what(), after "tests/data/motion/bad/"
+};
+constexpr BadFile kCorpus[] = {
+    {"bvh_absurd_frame_rate.bvh",
+     "bvh_absurd_frame_rate.bvh:18: expected a frame time giving 1 to 1000 frames per second, got 0.000001 s (1e+06 fps)"},
+    {"bvh_bad_channel_name.bvh",
+     "bvh_bad_channel_name.bvh:9: expected channel 2 of 3: Xposition, Yposition, Zposition, Xrotation, Yrotation or Zrotation, got 'Wrotation'"},
+    {"bvh_channel_count_too_big.bvh",
+     "bvh_channel_count_too_big.bvh:9: expected a channel count from 0 to 6, got '7'"},
+    {"bvh_crlf_short_frame.bvh",
+     "bvh_crlf_short_frame.bvh:19: expected 9 values in frame 1 (one per channel), got 4"},
+    {"bvh_duplicate_joint.bvh",
+     "bvh_duplicate_joint.bvh:6: expected unique joint names, got a second joint 'Hips'"},
+    {"bvh_empty.bvh",
+     "bvh_empty.bvh:1: expected HIERARCHY, got end of file"},
+    {"bvh_extra_frames.bvh",
+     "bvh_extra_frames.bvh:20: expected 1 frames (Frames: at line 17), got more frame lines"},
+    {"bvh_inf_offset.bvh",
+     "bvh_inf_offset.bvh:8: expected a finite number (OFFSET x), got 'inf'"},
+    {"bvh_missing_brace.bvh",
+     "bvh_missing_brace.bvh:7: expected '{', got 'OFFSET'"},
+    {"bvh_missing_frame_time.bvh",
+     "bvh_missing_frame_time.bvh:18: expected 'Frame Time:', got '0'"},
+    {"bvh_missing_frames.bvh",
+     "bvh_missing_frames.bvh:17: expected 'Frames:', got 'Frame'"},
+    {"bvh_nan_value.bvh",
+     "bvh_nan_value.bvh:20: expected a finite number (value 4 of frame 2), got 'nan'"},
+    {"bvh_negative_frames.bvh",
+     "bvh_negative_frames.bvh:17: expected a frame count from 1 to 10000000 after 'Frames:', got '-3'"},
+    {"bvh_no_hierarchy.bvh",
+     "bvh_no_hierarchy.bvh:1: expected HIERARCHY, got 'ROOT'"},
+    {"bvh_overflow_value.bvh",
+     "bvh_overflow_value.bvh:19: expected a finite number (value 9 of frame 1), got '1e999'"},
+    {"bvh_truncated_hierarchy.bvh",
+     "bvh_truncated_hierarchy.bvh:9: expected JOINT, End Site or '}', got end of file"},
+    {"bvh_truncated_motion.bvh",
+     "bvh_truncated_motion.bvh:20: expected 5 frames (Frames: at line 17), got 2 (the file ends)"},
+    {"bvh_unknown_skeleton.bvh",
+     "bvh_unknown_skeleton.bvh: expected joint names of a known skeleton (smpl, smpl_short, mixamo, cmu_motionbuilder, cmu), got 3 joints; closest is cmu_motionbuilder, missing leftupleg, rightupleg, leftleg, rightleg, spine1, leftfoot, ..."},
+    {"bvh_wrong_channel_count.bvh",
+     "bvh_wrong_channel_count.bvh:20: expected 9 values in frame 2 (one per channel), got 8"},
+    {"bvh_zero_frame_time.bvh",
+     "bvh_zero_frame_time.bvh:18: expected a positive frame time in seconds, got '0'"},
+    {"clip_truncated.json",
+     "clip_truncated.json: byte 84: expected valid JSON, got [json.exception.parse_error.101] parse error at line 3, column 1: syntax error while parsing object key - unexpected end of input; expected string literal"},
+    {"clip_wrong_joints.json",
+     "clip_wrong_joints.json: joints: expected an array of 22 entries, got []"},
+    {"npy_bad_header.npy",
+     "npy_bad_header.npy: byte 60: expected a shape tuple '(...)', got '['"},
+    {"npy_bad_magic.npy",
+     "npy_bad_magic.npy: byte 0: expected the .npy magic \\x93NUMPY, got other bytes"},
+    {"npy_complex_dtype.npy",
+     "npy_complex_dtype.npy: byte 10: expected dtype float32, float64, int32 or int64 ('<f4', '<f8', '<i4', '<i8'), got '<c16'"},
+    {"npy_fortran_order.npy",
+     "npy_fortran_order.npy: byte 10: expected C order (fortran_order False), got fortran_order True"},
+    {"npy_nan_value.npy",
+     "npy_nan_value.npy: byte 408: expected finite joint positions, got nan (frame 1, joint 1, axis 1)"},
+    {"npy_pickled_objects.npy",
+     "npy_pickled_objects.npy: byte 10: expected a numeric array, got dtype 'O' (pickled Python objects, refused)"},
+    {"npy_truncated_data.npy",
+     "npy_truncated_data.npy: byte 128: expected 528 bytes of data (132 values), got 518 bytes (truncated)"},
+    {"npy_truncated_header.npy",
+     "npy_truncated_header.npy: byte 10: expected a header of 118 bytes, got 30 bytes (truncated)"},
+    {"npy_unsupported_dtype.npy",
+     "npy_unsupported_dtype.npy: byte 10: expected dtype float32, float64, int32 or int64 ('<f4', '<f8', '<i4', '<i8'), got '<i2'"},
+    {"npy_wrong_joint_count.npy",
+     "npy_wrong_joint_count.npy: byte 0 (header): expected shape (frames, 22, 3), got (2, 21, 3)"},
+    {"npz_bad_crc.npz",
+     "npz_bad_crc.npz: byte 318: expected member 'poses' matching its CRC-32, got a mismatch (corrupted data)"},
+    {"npz_corrupt_deflate.npz",
+     "npz_corrupt_deflate.npz[poses.npy]: byte 1: expected a block type 0, 1 or 2, got type 3"},
+    {"npz_inf_trans.npz",
+     "npz_inf_trans.npz[trans.npy]: byte 136: expected finite values, got inf at index 1"},
+    {"npz_missing_poses.npz",
+     "npz_missing_poses.npz[poses]: expected an array 'poses', got keys trans"},
+    {"npz_not_a_zip.npz",
+     "npz_not_a_zip.npz: byte 0: expected a zip archive (npz) starting with 'PK', got other bytes"},
+    {"npz_pickled_poses.npz",
+     "npz_pickled_poses.npz[poses.npy]: byte 10: expected a numeric array, got dtype 'O' (pickled Python objects, refused)"},
+    {"npz_poses_wrong_shape.npz",
+     "npz_poses_wrong_shape.npz[poses.npy]: expected shape (frames, 3 x joints) with at least 22 joints (156 for SMPL-H), got (3, 10)"},
+    {"npz_truncated.npz",
+     "npz_truncated.npz: byte 512: expected a zip end-of-central-directory record, got none"},
+};
+
+TEST(ClipIoTest, MalformedCorpusGivesTheExpectedErrors) {
+  size_t files = 0;
+  for (const auto& entry : fs::directory_iterator("tests/data/motion/bad")) {
+    (void)entry;
+    ++files;
+  }
+  EXPECT_EQ(files, std::size(kCorpus)) << "every corpus file has a row in the table";
+  EXPECT_GE(std::size(kCorpus), 20u);
+  for (const BadFile& bad : kCorpus) {
+    const std::string path = std::string("tests/data/motion/bad/") + bad.file;
+    try {
+      read_clip(path);
+      ADD_FAILURE() << path << ": no error";
+    } catch (const core::InputError& e) {
+      EXPECT_EQ(std::string(e.what()), "tests/data/motion/bad/" + std::string(bad.message)) << path;
+    }
+  }
+}
+
+TEST(ClipIoTest, JsonRoundTripIsExact) {
+  const Clip clip = testing::synthetic_clip();
+  const Clip back = parse_clip_json(format_clip_json(clip), "clip.json");
+  EXPECT_EQ(back.skeleton.height, clip.skeleton.height);
+  EXPECT_EQ(back.fps, clip.fps);
+  EXPECT_EQ(back.active_hand, clip.active_hand);
+  ASSERT_EQ(back.phases.size(), 2u);
+  EXPECT_EQ(back.phases[1].name, "middle");
+  EXPECT_EQ(back.phases[1].start, 0.4);
+  ASSERT_EQ(back.frames.size(), clip.frames.size());
+  for (size_t f = 0; f < clip.frames.size(); ++f) {
+    EXPECT_EQ(back.frames[f].X_WP.translation, clip.frames[f].X_WP.translation);
+    for (size_t j = 1; j < clip.frames[f].local.size(); ++j) {
+      EXPECT_TRUE(back.frames[f].local[j].isApprox(clip.frames[f].local[j], 1e-15));
+    }
+  }
+  EXPECT_LT(testing::max_joint_error(clip, back), 1e-12);
+}
+
+TEST(ClipIoTest, JsonErrorsNameTheKeyPath) {
+  std::string text = format_clip_json(testing::synthetic_clip());
+  text.replace(text.find("\"fps\":30.0"), 10, "\"fps\":\"x\"");
+  try {
+    parse_clip_json(text, "c.json");
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(e.where(), "c.json: fps");
+    EXPECT_EQ(e.expected(), "a number");
+  }
+}
+
+TEST(ClipIoTest, HumanMl3dRoundTripReproducesJointPositions) {
+  const Clip clip = testing::synthetic_clip();
+  const fs::path path = temp_dir() / "walk.npy";
+  write_clip(clip, path);
+  // HumanML3D layout: float32 (F, 22, 3), y-up: the pelvis height is the y column.
+  const NpyArray a = read_npy(path);
+  EXPECT_EQ(a.descr, "<f4");
+  EXPECT_EQ(a.shape, (std::vector<size_t>{40, 22, 3}));
+  EXPECT_NEAR(a.values[1], clip.frames[0].X_WP.translation.z(), 1e-6);
+  const Clip back = read_clip(path);
+  EXPECT_EQ(back.fps, 30.0);  // from the sidecar
+  EXPECT_NEAR(back.skeleton.height, clip.skeleton.height, 1e-5);
+  const double err = testing::max_joint_error(clip, back);
+  EXPECT_LT(err, 1e-3);
+  std::printf("npy round trip: max joint error %.3g m\n", err);
+  // Without the sidecar: HumanML3D's 20 fps.
+  fs::remove(fs::path(path.string() + ".json"));
+  EXPECT_EQ(read_clip(path).fps, 20.0);
+}
+
+TEST(ClipIoTest, BvhAndNpzThroughWriteAndRead) {
+  const Clip clip = testing::synthetic_clip();
+  for (const char* name : {"walk.bvh", "walk.npz", "walk.json"}) {
+    const fs::path path = temp_dir() / name;
+    write_clip(clip, path);
+    RetargetOptions options;
+    options.height = clip.skeleton.height;
+    options.ground = false;
+    const Clip back = read_clip(path, options);
+    EXPECT_EQ(back.frames.size(), clip.frames.size()) << name;
+    const double err = testing::max_joint_error(clip, back);
+    EXPECT_LT(err, 1e-3) << name;
+    std::printf("%s round trip: max joint error %.3g m\n", name, err);
+  }
+  // BVH text is deterministic.
+  write_clip(clip, temp_dir() / "again.bvh");
+  EXPECT_EQ(slurp(temp_dir() / "walk.bvh"), slurp(temp_dir() / "again.bvh"));
+}
+
+TEST(ClipIoTest, UnknownExtensionsAndUnwritablePathsAreInputErrors) {
+  const Clip clip = testing::synthetic_clip();
+  EXPECT_THROW(write_clip(clip, temp_dir() / "walk.fbx"), core::InputError);
+  EXPECT_THROW(write_clip(clip, "/nonexistent-dir/x/walk.json"), core::InputError);
+  EXPECT_THROW(read_clip(temp_dir() / "missing.bvh"), core::InputError);
+  EXPECT_THROW(read_clip("tests/data/motion/make_fixtures.py"), core::InputError);
+}
+
+}  // namespace
+}  // namespace hribench::human
