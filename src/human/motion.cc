@@ -60,6 +60,12 @@ core::Pose stand_frame(const SkeletonPose& pose) {
   return X_WF;
 }
 
+// Height of the ankle joints above the floor in the rest pose.
+double rest_ankle_height(const Skeleton& k) {
+  const auto X = forward_kinematics(k, SkeletonPose::Standing(k, 0, 0, 0));
+  return X[static_cast<size_t>(index(Joint::kLeftAnkle))].translation.z();
+}
+
 // Shoulder joint of a side in F for the upright rest pose.
 Vec3 rest_shoulder(const Skeleton& k, Side side) {
   const auto X = forward_kinematics(k, SkeletonPose::Standing(k, 0, 0, 0));
@@ -300,6 +306,11 @@ SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t) const 
     set(Joint::kRightHip, core::axis_angle(Vec3::UnitY(), hip));
     set(Joint::kLeftKnee, core::axis_angle(Vec3::UnitY(), amp * 0.6 * std::max(0.0, std::cos(phi))));
     set(Joint::kRightKnee, core::axis_angle(Vec3::UnitY(), amp * 0.6 * std::max(0.0, -std::cos(phi))));
+    // The pelvis drops so that the lower foot stays on the floor (the gait's vertical bob).
+    const auto X = forward_kinematics(k, pose);
+    const double lowest = std::min(X[static_cast<size_t>(index(Joint::kLeftAnkle))].translation.z(),
+                                   X[static_cast<size_t>(index(Joint::kRightAnkle))].translation.z());
+    pose.X_WP.translation.z() -= lowest - rest_ankle_height(k);
   }
   // Idle: breathing (chest extension) and a lateral weight shift with the feet kept in place.
   if (seg != nullptr && (seg->breath > 0 || seg->sway > 0)) {

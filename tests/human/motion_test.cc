@@ -1,0 +1,423 @@
+#include "human/motion.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "core/errors.h"
+#include "core/rng.h"
+#include "human/arm_ik.h"
+#include "human/labels.h"
+
+namespace hribench::human {
+namespace {
+
+using core::Vec3;
+
+// Scene convention (TASKS.md): the person stands at the far edge of the table (x = 1.5) facing
+// the robot (-x); the table top is at 0.75 m.
+constexpr double kStandX = 1.5;
+const Vec3 kObject(1.05, 0.12, 0.82);
+
+SkeletonPose standing(const Skeleton& k) { return SkeletonPose::Standing(k, kStandX, 0, core::kPi); }
+
+// Parameters that make every primitive well-defined in the scene above.
+PrimitiveParams example(const std::string& name, const std::string& hand = "right") {
+  PrimitiveParams p;
+  p.primitive = name;
+  if (find_primitive(name)->uses_hand) p.choices["hand"] = hand;
+  if (name == "walk_to") p.points["to"] = Vec3(1.5, 0.8, 0);
+  if (name == "reach" || name == "pick" || name == "place") p.points["target"] = kObject;
+  if (name == "point") p.points["target"] = Vec3(0.5, -0.3, 0.8);
+  if (name == "offer" || name == "receive") p.zones["zone"] = {Vec3(1.05, 0.05, 1.05), 0.05};
+  if (name == "move_object") {
+    p.points["from"] = kObject;
+    p.points["to"] = Vec3(1.0, -0.2, 0.8);
+  }
+  if (name == "hold_lid") {
+    p.points["handle"] = Vec3(1.15, 0, 0.95);
+    p.points["hinge"] = Vec3(0.9, 0, 0.95);
+  }
+  if (name == "intrude") p.points["target"] = Vec3(0.9, 0.0, 0.95);
+  if (name == "lift") p.points["target"] = Vec3(1.15, 0, 0.80);
+  if (name == "carry") p.points["to"] = Vec3(1.6, 0.6, 0.95);
+  if (name == "offer" || name == "receive" || name == "pick" || name == "place" ||
+      name == "move_object" || name == "lift" || name == "carry" || name == "lower") {
+    p.objects["object"] = "item";
+  }
+  return p;
+}
+
+// The catalog parameter that sets a phase's duration (empty: derived, e.g. walk).
+std::string timing_param(const std::string& prim, const std::string& phase) {
+  if (prim == "walk_to") return phase == "walk" ? "" : "turn";
+  if (prim == "offer" && phase == "hold") return "settle";
+  if (prim == "offer" && phase == "hold_stable") return "hold";
+  if (prim == "reach" && phase == "hold") return "dwell";
+  const PrimitiveInfo* info = find_primitive(prim);
+  if (info->param(phase) != nullptr && info->param(phase)->kind == ParamKind::kNumber) return phase;
+  return "duration";
+}
+
+Vec3 palm_of(const Clip& clip, size_t frame, Side side) {
+  return hand_point(clip.skeleton, clip.frames[frame], side, HandPoint::kPalm);
+}
+
+TEST(MotionTest, EveryPrimitiveHasItsPhasesWithTheRequestedTiming) {
+  core::Rng rng(7);
+  const Skeleton k = Skeleton::FromHeight(1.72);
+  for (const PrimitiveInfo& prim : primitive_catalog()) {
+    SCOPED_TRACE(std::string(prim.name));
+    PrimitiveParams p = example(std::string(prim.name));
+    p.numbers["onset"] = 0.7;
+    std::map<std::string, double> requested;
+    for (const PhaseInfo& phase : prim.phases) {
+      const std::string param = timing_param(std::string(prim.name), std::string(phase.name));
+      if (param.empty()) continue;
+      const ParamInfo* info = prim.param(param);
+      ASSERT_NE(info, nullptr) << param;
+      const double lo = std::max(info->min, 0.1);
+      const double value = p.numbers.count(param) ? p.numbers[param]
+                                                  : std::round(rng.uniform(lo, std::min(info->max, 2.5)) * 100) / 100;
+      p.numbers[param] = value;
+      requested[std::string(phase.name)] = value;
+    }
+    const LabelledClip lc = generate_clip(k, standing(k), p, 30);
+    ASSERT_EQ(lc.clip.phases.size(), prim.phases.size());
+    double t = 0.7;
+    for (size_t i = 0; i < prim.phases.size(); ++i) {
+      const Phase& ph = lc.clip.phases[i];
+      EXPECT_EQ(ph.name, prim.phases[i].name);
+      EXPECT_NEAR(ph.start, t, 1e-9) << ph.name;
+      if (requested.count(ph.name)) {
+        EXPECT_NEAR(ph.end - ph.start, requested[ph.name], 1e-9) << ph.name;
+      }
+      t = ph.end;
+    }
+    EXPECT_GE(lc.clip.duration(), t - 1e-9);
+    EXPECT_LT(lc.clip.duration(), t + 1.0 / 30);
+    EXPECT_EQ(lc.labels.size(), lc.clip.frames.size());
+    EXPECT_EQ(lc.clip.active_hand.has_value(), prim.uses_hand);
+  }
+}
+
+TEST(MotionTest, EveryPrimitiveKeepsBonesLimitsAndBodyIntactForBothHandsAndAllHeights) {
+  for (const double height : {1.55, 1.75, 1.95}) {
+    const Skeleton k = Skeleton::FromHeight(height);
+    for (const PrimitiveInfo& prim : primitive_catalog()) {
+      for (const std::string hand : {"left", "right"}) {
+        SCOPED_TRACE(std::string(prim.name) + " " + hand + " " + std::to_string(height));
+        const LabelledClip lc = generate_clip(k, standing(k), example(std::string(prim.name), hand), 20);
+        const CheckResult bones = check_bone_lengths(lc.clip, 1e-9);
+        EXPECT_TRUE(bones.ok) << bones.message;
+        const CheckResult limits = check_clip_joint_limits(lc.clip);
+        EXPECT_TRUE(limits.ok) << limits.message;
+        const CheckResult body = check_self_penetration(lc.clip);
+        EXPECT_TRUE(body.ok) << body.message;
+        // One foot stays on the floor; the ankle of a swinging leg rises less than 15 cm.
+        for (const SkeletonPose& pose : lc.clip.frames) {
+          const auto X = forward_kinematics(k, pose);
+          const double l = X[index(Joint::kLeftAnkle)].translation.z() - 0.06 * k.scale;
+          const double r = X[index(Joint::kRightAnkle)].translation.z() - 0.06 * k.scale;
+          EXPECT_NEAR(std::min(l, r), 0, 0.01);
+          EXPECT_LT(std::max(l, r), 0.15);
+        }
+      }
+    }
+  }
+}
+
+TEST(MotionTest, ReachFollowsABellShapedMinJerkSpeedProfile) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  // Start with the hand already raised, so the reach is one straight min-jerk segment.
+  PrimitiveParams first = example("reach");
+  first.points["target"] = Vec3(1.15, -0.05, 1.05);
+  const MotionPlan raise = plan_motion(k, standing(k), first);
+  const SkeletonPose start = raise.pose_at(raise.nominal_duration());
+  PrimitiveParams p = example("reach");
+  p.points["target"] = Vec3(1.0, 0.2, 0.95);
+  p.numbers["duration"] = 0.8;
+  const double fps = 200;
+  const LabelledClip lc = generate_clip(k, start, p, fps);
+  const Phase* reach = lc.clip.phase("reach");
+  ASSERT_NE(reach, nullptr);
+  const auto f0 = static_cast<size_t>(std::round(reach->start * fps));
+  const auto f1 = static_cast<size_t>(std::round(reach->end * fps));
+  const double amplitude = (palm_of(lc.clip, f1, Side::kRight) - palm_of(lc.clip, f0, Side::kRight)).norm();
+  EXPECT_GT(amplitude, 0.2);
+  std::vector<double> speed;
+  for (size_t f = f0; f < f1; ++f) {
+    speed.push_back((palm_of(lc.clip, f + 1, Side::kRight) - palm_of(lc.clip, f, Side::kRight)).norm() * fps);
+  }
+  const auto peak = static_cast<size_t>(std::max_element(speed.begin(), speed.end()) - speed.begin());
+  // Peak 1.875 A / T at mid-time; single-peaked (rises, then falls).
+  EXPECT_NEAR(speed[peak], 1.875 * amplitude / 0.8, 0.02 * 1.875 * amplitude / 0.8);
+  EXPECT_NEAR((static_cast<double>(peak) + 0.5) / fps, 0.4, 1.0 / fps);
+  for (size_t i = 1; i <= peak; ++i) EXPECT_GE(speed[i], speed[i - 1] - 1e-9) << i;
+  for (size_t i = peak + 1; i < speed.size(); ++i) EXPECT_LE(speed[i], speed[i - 1] + 1e-9) << i;
+  EXPECT_LT(speed.front(), 0.01);
+  EXPECT_LT(speed.back(), 0.01);
+}
+
+TEST(MotionTest, PointingStrokeHasALongerDecelerationTail) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  PrimitiveParams p = example("point");
+  p.numbers["stroke"] = 1.0;
+  p.numbers["decel"] = 0.7;
+  const double fps = 200;
+  const LabelledClip lc = generate_clip(k, standing(k), p, fps);
+  const Phase* stroke = lc.clip.phase("stroke");
+  const auto f0 = static_cast<size_t>(std::round(stroke->start * fps));
+  const auto f1 = static_cast<size_t>(std::round(stroke->end * fps));
+  double best = 0;
+  size_t peak = f0;
+  for (size_t f = f0; f < f1; ++f) {
+    const double v = (palm_of(lc.clip, f + 1, Side::kRight) - palm_of(lc.clip, f, Side::kRight)).norm();
+    if (v > best) {
+      best = v;
+      peak = f;
+    }
+  }
+  // Peak at 1 - decel = 30 % of the stroke.
+  EXPECT_NEAR((static_cast<double>(peak - f0) + 0.5) / fps, 0.3, 2.0 / fps);
+}
+
+TEST(MotionTest, PointingRayPassesThroughTheTargetDuringTheHold) {
+  for (const double height : {1.55, 1.95}) {
+    const Skeleton k = Skeleton::FromHeight(height);
+    for (const std::string hand : {"left", "right"}) {
+      for (const Vec3& target : {Vec3(0.5, -0.3, 0.8), Vec3(0.7, 0.35, 0.76), Vec3(0.2, 0.0, 1.2)}) {
+        PrimitiveParams p = example("point", hand);
+        p.points["target"] = target;
+        p.numbers["swivel"] = 45;
+        const LabelledClip lc = generate_clip(k, standing(k), p, 30);
+        const Side side = hand == "left" ? Side::kLeft : Side::kRight;
+        const CheckResult hold = check_pointing(lc.clip, side, target, 0.01, "hold");
+        EXPECT_TRUE(hold.ok) << hold.message;
+        // The stroke ends on the ray too, and the arm is extended as asked.
+        const double ext = arm_extension(k, lc.clip.frames.back(), side);
+        EXPECT_LT(ext, 0.99);
+        const Phase* h = lc.clip.phase("hold");
+        EXPECT_NEAR(arm_extension(k, lc.clip.pose_at(0.5 * (h->start + h->end)), side), 0.85, 1e-6);
+        // Before the stroke the ray does not point at it yet.
+        EXPECT_FALSE(check_pointing(lc.clip, side, target, 0.05, "prep").ok);
+      }
+    }
+  }
+}
+
+TEST(MotionTest, OfferHoldsStableInTheZoneAndLabelsTheHeldObject) {
+  const Skeleton k = Skeleton::FromHeight(1.68);
+  PrimitiveParams p = example("offer", "left");
+  const Zone zone = p.zones["zone"];
+  p.numbers["hold"] = 1.2;
+  const LabelledClip lc = generate_clip(k, standing(k), p, 30);
+  const CheckResult stable = check_stable_in_zone(lc.clip, Side::kLeft, HandPoint::kPalm, zone, "hold_stable");
+  EXPECT_TRUE(stable.ok) << stable.message;
+  EXPECT_LT(stable.worst, 1e-6);
+  EXPECT_TRUE(check_stable_in_zone(lc.clip, Side::kLeft, HandPoint::kPalm, zone, "hold", 0.2).ok);
+  const CheckResult moving = check_stable_in_zone(lc.clip, Side::kLeft, HandPoint::kPalm, zone, "reach");
+  EXPECT_FALSE(moving.ok);
+  EXPECT_NE(moving.message.find("reach"), std::string::npos);
+  // Held from the start until the middle of the release, then empty; the right hand is free.
+  const Phase* release = lc.clip.phase("release");
+  for (size_t f = 0; f < lc.labels.size(); ++f) {
+    const double t = static_cast<double>(f) / 30;
+    const FrameLabel& l = lc.labels[f];
+    EXPECT_EQ(l.active_hand, Side::kLeft);
+    EXPECT_EQ(l.hands[1].holding, "");
+    if (t < release->start) {
+      EXPECT_EQ(l.hands[0].holding, "item") << t;
+      EXPECT_DOUBLE_EQ(l.hands[0].grip, 1);
+    }
+    if (t > release->end) {
+      EXPECT_EQ(l.hands[0].holding, "") << t;
+      EXPECT_DOUBLE_EQ(l.hands[0].grip, 0);
+    }
+    const Phase* ph = lc.clip.phase_at(t);
+    if (ph != nullptr && t > ph->start + 1e-9 && t < ph->end - 1e-9) {
+      EXPECT_EQ(l.phase, ph->name) << t;
+    }
+  }
+}
+
+TEST(MotionTest, ReactivePhasesWaitForTheirSignal) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  const MotionPlan plan = plan_motion(k, standing(k), example("offer"));
+  const auto timeline = plan.timeline({});
+  ASSERT_EQ(timeline.size(), 5u);
+  EXPECT_EQ(timeline[2].name, "hold_stable");
+  EXPECT_TRUE(std::isinf(timeline[2].end));
+  EXPECT_TRUE(std::isinf(plan.end_time({})));
+  const double t_stable = timeline[2].start;
+  // Still waiting long after: the pose does not move, the object is still held.
+  const SkeletonPose a = plan.pose_at(t_stable + 0.6);
+  const SkeletonPose b = plan.pose_at(t_stable + 30);
+  EXPECT_TRUE(a.local == b.local);
+  EXPECT_EQ(plan.label_at(t_stable + 30).phase, "hold_stable");
+  EXPECT_EQ(plan.label_at(t_stable + 30).hands[1].holding, "item");
+  // The signal ends the wait; the rest of the plan follows it.
+  const Signals go{{"hold_stable", t_stable + 4.0}};
+  const auto after = plan.timeline(go);
+  EXPECT_DOUBLE_EQ(after[2].end, t_stable + 4.0);
+  EXPECT_DOUBLE_EQ(after[3].start, t_stable + 4.0);
+  EXPECT_DOUBLE_EQ(plan.end_time(go), t_stable + 4.0 + 0.3 + 0.8);
+  EXPECT_EQ(plan.label_at(t_stable + 4.2, go).phase, "release");
+  EXPECT_EQ(plan.label_at(t_stable + 4.5, go).hands[1].holding, "");
+  // A signal before the minimum hold does not shorten it.
+  const Signals early{{"hold_stable", 0.1}};
+  EXPECT_DOUBLE_EQ(plan.timeline(early)[2].end, t_stable + 0.5);
+  // to_clip with the signal covers the whole plan; without, the minimum.
+  EXPECT_NEAR(plan.to_clip(30, go).clip.duration(), plan.end_time(go), 1.0 / 30);
+  EXPECT_NEAR(plan.to_clip(30).clip.duration(), plan.nominal_duration(), 1.0 / 30);
+  // Receive closes only on its signal.
+  const MotionPlan receive = plan_motion(k, standing(k), example("receive"));
+  const double open = receive.timeline({})[1].start;
+  EXPECT_EQ(receive.label_at(open + 10).hands[1].grip, 0);
+  const Signals in_palm{{"open", open + 2}};
+  EXPECT_EQ(receive.label_at(open + 2 + 0.3 + 0.01, in_palm).hands[1].holding, "item");
+}
+
+TEST(MotionTest, IntruderHandEntersTheWorkspace) {
+  const Skeleton k = Skeleton::FromHeight(1.80);
+  const LabelledClip lc = generate_clip(k, standing(k), example("intrude"), 30);
+  const Box workspace{Vec3(0.3, -0.4, 0.75), Vec3(0.95, 0.4, 1.3)};
+  const CheckResult enters = check_enters_box(lc.clip, Side::kRight, HandPoint::kPalm, workspace, "reach");
+  EXPECT_TRUE(enters.ok) << enters.message;
+  EXPECT_GT(enters.worst, 0.0);
+  EXPECT_LE(enters.worst, lc.clip.phase("reach")->end + 1e-9);
+  // It stays there during the dwell and leaves in the retraction.
+  const Phase* dwell = lc.clip.phase("dwell");
+  EXPECT_TRUE(workspace.contains(palm_of(lc.clip, static_cast<size_t>(std::ceil(dwell->start * 30)), Side::kRight)));
+  EXPECT_FALSE(workspace.contains(palm_of(lc.clip, lc.clip.frames.size() - 1, Side::kRight)));
+  const Box elsewhere{Vec3(0.0, 0.5, 0.75), Vec3(0.3, 0.9, 1.0)};
+  const CheckResult never = check_enters_box(lc.clip, Side::kRight, HandPoint::kPalm, elsewhere);
+  EXPECT_FALSE(never.ok);
+  EXPECT_NE(never.message.find("never enters"), std::string::npos);
+}
+
+TEST(MotionTest, HandsReachTheirTargets) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  for (const std::string name : {"reach", "pick", "place", "intrude"}) {
+    SCOPED_TRACE(name);
+    const PrimitiveParams p = example(name, "right");
+    const MotionPlan plan = plan_motion(k, standing(k), p);
+    const Phase& main = plan.timeline({{"hold", 0}})[0];
+    const Vec3 palm = hand_point(k, plan.pose_at(main.end, {{"hold", 0}}), Side::kRight, HandPoint::kPalm);
+    EXPECT_LT((palm - p.points.at("target")).norm(), 1e-6);
+  }
+  // A lid handle follows the hinge arc: at the end of "open" it is open_deg up.
+  const PrimitiveParams lid = example("hold_lid");
+  const MotionPlan plan = plan_motion(k, standing(k), lid);
+  const auto tl = plan.timeline({{"hold", 0}});
+  const Vec3 palm = hand_point(k, plan.pose_at(tl[2].end, {{"hold", 0}}), Side::kRight, HandPoint::kPalm);
+  const Vec3 hinge = lid.points.at("hinge");
+  const Vec3 handle = lid.points.at("handle");
+  EXPECT_NEAR((palm - hinge).norm(), (handle - hinge).norm(), 2e-3);
+  EXPECT_NEAR(std::acos((palm - hinge).normalized().dot((handle - hinge).normalized())), 100 * core::kPi / 180, 0.02);
+}
+
+TEST(MotionTest, WalkToArrivesAndFacesTheRequestedHeading) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  PrimitiveParams p = example("walk_to");
+  p.numbers["yaw_deg"] = 90;
+  p.numbers["speed"] = 1.4;
+  const LabelledClip lc = generate_clip(k, standing(k), p, 30);
+  const SkeletonPose& end = lc.clip.frames.back();
+  EXPECT_NEAR(end.X_WP.translation.x(), 1.5, 1e-9);
+  EXPECT_NEAR(end.X_WP.translation.y(), 0.8, 1e-9);
+  const Vec3 fwd = end.X_WP.rotation * Vec3::UnitX();
+  EXPECT_NEAR(std::atan2(fwd.y(), fwd.x()), core::kPi / 2, 1e-9);
+  // Walk duration: 1.875 * distance / peak speed; the legs move while walking.
+  const Phase* walk = lc.clip.phase("walk");
+  EXPECT_NEAR(walk->end - walk->start, 1.875 * 0.8 / 1.4, 1e-9);
+  const SkeletonPose mid = lc.clip.pose_at(0.5 * (walk->start + walk->end));
+  EXPECT_GT(core::Quat(mid.local[index(Joint::kLeftHip)]).angularDistance(core::Quat::Identity()), 0.05);
+}
+
+TEST(MotionTest, ChainedActsStartWhereThePreviousEnded) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  SkeletonPose pose = standing(k);
+  for (const std::string name : {"lift", "carry", "lower"}) {
+    SCOPED_TRACE(name);
+    const LabelledClip lc = generate_clip(k, pose, example(name), 30);
+    // The first frame is the previous last frame (hands within 1 mm; 3 mm from the rest pose,
+    // whose straight arm is bent to 99.5 % of its reach).
+    for (const Side side : {Side::kLeft, Side::kRight}) {
+      const Vec3 before = hand_point(k, pose, side, HandPoint::kPalm);
+      const Vec3 after = hand_point(k, lc.clip.frames.front(), side, HandPoint::kPalm);
+      EXPECT_LT((before - after).norm(), name == std::string("lift") ? 3e-3 : 1e-3);
+    }
+    EXPECT_TRUE(check_self_penetration(lc.clip).ok);
+    EXPECT_TRUE(check_clip_joint_limits(lc.clip).ok);
+    pose = lc.clip.frames.back();
+  }
+  // After the carry the body stood elsewhere; after lower the hands are empty.
+  EXPECT_GT(std::hypot(pose.X_WP.translation.x() - kStandX, pose.X_WP.translation.y()), 0.3);
+}
+
+TEST(MotionTest, SameParametersGiveIdenticalMotionAndTremorIsSeeded) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  PrimitiveParams p = example("offer");
+  p.numbers["tremor"] = 0.002;
+  p.seed = 11;
+  const LabelledClip a = generate_clip(k, standing(k), p, 30);
+  const LabelledClip b = generate_clip(k, standing(k), p, 30);
+  ASSERT_EQ(a.clip.frames.size(), b.clip.frames.size());
+  for (size_t f = 0; f < a.clip.frames.size(); ++f) {
+    EXPECT_TRUE(a.clip.frames[f].local == b.clip.frames[f].local);
+    EXPECT_EQ(a.clip.frames[f].X_WP.translation, b.clip.frames[f].X_WP.translation);
+  }
+  p.seed = 12;
+  const LabelledClip c = generate_clip(k, standing(k), p, 30);
+  const size_t mid = a.clip.frames.size() / 2;
+  const double diff = (palm_of(a.clip, mid, Side::kRight) - palm_of(c.clip, mid, Side::kRight)).norm();
+  EXPECT_GT(diff, 1e-5);
+  EXPECT_LT(diff, 2 * std::sqrt(3.0) * 0.002 + 1e-6);
+  // With tremor the hold is no longer perfectly still, but stays in the zone.
+  const CheckResult stable = check_stable_in_zone(a.clip, Side::kRight, HandPoint::kPalm,
+                                                  p.zones["zone"], "hold_stable", 0.5);
+  EXPECT_TRUE(stable.ok) << stable.message;
+  EXPECT_GT(stable.worst, 0.01);
+}
+
+TEST(MotionTest, BadParametersAreClearErrors) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  const auto message = [&](const PrimitiveParams& p) {
+    try {
+      plan_motion(k, standing(k), p);
+    } catch (const core::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  PrimitiveParams p = example("dance");
+  EXPECT_NE(message(p).find("motion.primitive: expected one of idle, walk_to"), std::string::npos) << message(p);
+  p = example("point");
+  p.numbers["hold"] = 100;
+  EXPECT_EQ(message(p), "motion.hold: expected a number in [0, 60] s, got 100");
+  p = example("point");
+  p.numbers["hold"] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(message(p).find("motion.hold: expected a number in [0, 60] s"), std::string::npos);
+  p = example("point");
+  p.numbers["speed"] = 1;
+  EXPECT_NE(message(p).find("motion.speed: expected a parameter of point (onset, hand, target"), std::string::npos);
+  p = example("point");
+  p.points.erase("target");
+  EXPECT_EQ(message(p), "motion.target: expected a point (required by point), got nothing");
+  p = example("go");
+  p.choices["style"] = "salute";
+  EXPECT_EQ(message(p), "motion.style: expected wave | beckon, got 'salute'");
+  p = example("offer");
+  p.zones["zone"].radius = 2;
+  EXPECT_EQ(message(p), "motion.zone.radius: expected a radius in [0.005, 0.5] m, got 2");
+  p = example("offer");
+  p.numbers["zone"] = 1;
+  EXPECT_EQ(message(p), "motion.zone: expected a zone, got a value of another kind");
+  EXPECT_EQ(message(example("offer")), "no error");
+}
+
+}  // namespace
+}  // namespace hribench::human
