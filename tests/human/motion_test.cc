@@ -27,7 +27,8 @@ SkeletonPose standing(const Skeleton& k) { return SkeletonPose::Standing(k, kSta
 PrimitiveParams example(const std::string& name, const std::string& hand = "right") {
   PrimitiveParams p;
   p.primitive = name;
-  if (find_primitive(name)->uses_hand) p.choices["hand"] = hand;
+  const PrimitiveInfo* info = find_primitive(name);
+  if (info != nullptr && info->uses_hand) p.choices["hand"] = hand;
   if (name == "walk_to") p.points["to"] = Vec3(1.5, 0.8, 0);
   if (name == "reach" || name == "pick" || name == "place") p.points["target"] = kObject;
   if (name == "point") p.points["target"] = Vec3(0.5, -0.3, 0.8);
