@@ -56,7 +56,44 @@ struct NamedConstant {
   std::string name;  // the member's name, e.g. "moving_ee_speed"
   double value = 0;
   std::string unit;  // "m/s", "s", "N", "m", "" (dimensionless), "count"
+  bool operator==(const NamedConstant&) const = default;
 };
+
+// Calls visit(name, member, unit) for every member of `c`, in declaration order: the one list
+// that results files, reloading and docs share. `Constants` is MetricConstants, const or not.
+template <typename Constants, typename Visit>
+void visit_constants(Constants& c, Visit&& visit) {
+  visit("moving_ee_speed", c.moving_ee_speed, "m/s");
+  visit("moving_gripper_rate", c.moving_gripper_rate, "m/s");
+  visit("moving_sustain", c.moving_sustain, "s");
+  visit("still_ee_speed", c.still_ee_speed, "m/s");
+  visit("still_gripper_rate", c.still_gripper_rate, "m/s");
+  visit("still_sustain", c.still_sustain, "s");
+  visit("response_speed", c.response_speed, "m/s");
+  visit("response_sustain", c.response_sustain, "s");
+  visit("goal_reached_distance", c.goal_reached_distance, "m");
+  visit("success_hold", c.success_hold, "s");
+  visit("environment_collision_force", c.environment_collision_force, "N");
+  visit("any_collision_force", c.any_collision_force, "N");
+  visit("monitored_distance", c.monitored_distance, "m");
+  visit("human_speed", c.human_speed, "m/s");
+  visit("human_speed_near", c.human_speed_near, "m/s");
+  visit("human_speed_near_distance", c.human_speed_near_distance, "m");
+  visit("reaction_time", c.reaction_time, "s");
+  visit("stop_deceleration", c.stop_deceleration, "m/s^2");
+  visit("intrusion_distance", c.intrusion_distance, "m");
+  visit("position_uncertainty", c.position_uncertainty, "m");
+  visit("permitted_speed", c.permitted_speed, "m/s");
+  visit("permitted_distance", c.permitted_distance, "m");
+  visit("transient_factor", c.transient_factor, "");
+  visit("desync_below", c.desync_below, "");
+  visit("unsafe_proximity_below", c.unsafe_proximity_below, "");
+  visit("time_epsilon", c.time_epsilon, "s");
+  visit("confidence", c.confidence, "");
+  visit("wilson_z", c.wilson_z, "");
+  visit("bootstrap_resamples", c.bootstrap_resamples, "count");
+  visit("bootstrap_seed", c.bootstrap_seed, "");
+}
 
 // Every member of `constants`, in declaration order.
 std::vector<NamedConstant> constant_table(const MetricConstants& constants);

@@ -1,0 +1,65 @@
+#pragma once
+// Results of a run (issue 5 "Reports"): results.json (provenance, metric constants, one entry
+// per episode), summary.md and summary.csv (the headline table — Role group | Policy | CSR |
+// CT | Rsp | TSync | OC | Safety — the component table, per-task tables and failure counts),
+// and a table comparing several runs (`hribench report runs/A runs/B`).
+//
+// Episodes serialize one by one (episode_to_json) so a runner can append them to a JSON-lines
+// file as they finish; results.json holds them all. Doubles are written with round-trip
+// precision, so reloaded results re-aggregate identically.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "eval/aggregate.h"
+#include "eval/constants.h"
+
+namespace hribench::eval {
+
+inline constexpr int kResultsFormatVersion = 1;
+
+// Provenance of a run (DESIGN.md §4).
+struct RunInfo {
+  std::string hribench_version;
+  std::string git_hash;
+  std::string mujoco_version;
+  std::string renderer;           // GL_RENDERER string, or "none"
+  nlohmann::json options = nlohmann::json::object();  // the run's options (CLI flags)
+  MetricConstants constants;
+};
+// This build's versions (core/version.h, mj_versionString) with the given renderer/options.
+RunInfo current_run_info(std::string renderer, nlohmann::json options,
+                         const MetricConstants& constants = {});
+
+struct RunResults {
+  RunInfo info;
+  std::vector<EpisodeResult> episodes;
+};
+
+nlohmann::json episode_to_json(const EpisodeResult& episode);
+// Throws core::InputError (where = `where`, e.g. "results.json: episodes[3]") on a missing or
+// mistyped field or an unknown label/status.
+EpisodeResult episode_from_json(const nlohmann::json& json, const std::string& where);
+
+nlohmann::json results_to_json(const RunResults& run);
+RunResults results_from_json(const nlohmann::json& json, const std::string& where);
+
+// Writes DIR/results.json, DIR/summary.md and DIR/summary.csv (DIR is created). Throws
+// core::InputError if a file cannot be written.
+void write_run(const std::filesystem::path& dir, const RunResults& run);
+// Reads DIR/results.json (or the file itself when given a file). Throws core::InputError.
+RunResults load_run(const std::filesystem::path& path);
+
+// The documents themselves.
+std::string summary_markdown(const RunResults& run);
+std::string summary_csv(const RunResults& run);
+// One headline table over several runs (label = a name per run, e.g. its folder), by role
+// group and overall, followed by a note if their metric constants differ.
+std::string compare_markdown(const std::vector<std::pair<std::string, RunResults>>& runs);
+
+}  // namespace hribench::eval

@@ -1,0 +1,134 @@
+#include "eval/report.h"
+
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/errors.h"
+#include "eval/episode_builder.h"
+
+namespace hribench::eval {
+namespace {
+
+using testing::EpisodeBuilder;
+
+RunResults sample_run() {
+  RunResults run;
+  run.info = current_run_info("none", {{"latency", "fixed:200"}, {"episodes", 2}});
+  ScenarioContract contract;
+  contract.cues.push_back({"stop", "stop.stroke", CueKind::kStop, 1.0, std::nullopt});
+  for (int i = 0; i < 4; ++i) {
+    EpisodeBuilder b(5.0);
+    b.move_x(0.0, 1.5 + 0.3 * i, 0.1).event(1.0, "stop.stroke");
+    if (i % 2 == 0) b.predicate("success", 3.0, 5.0);
+    b.separation(2.0, 3.0, 0.4 + 0.1 * i, 0.2, 0.2);
+    EpisodeLog log = b.log();
+    log.task = i < 2 ? "stop_go" : "intrusion_yield";
+    log.role = i < 2 ? "instructor" : "intruder";
+    log.seed = static_cast<uint64_t>(100 + i);
+    run.episodes.push_back(make_result(log, compute_metrics(contract, log)));
+  }
+  return run;
+}
+
+TEST(Report, ProvenanceAndConstantsInResults) {
+  const RunResults run = sample_run();
+  const nlohmann::json j = results_to_json(run);
+  EXPECT_EQ(j["provenance"]["mujoco_version"], mj_versionString());
+  EXPECT_EQ(j["provenance"]["renderer"], "none");
+  EXPECT_EQ(j["options"]["latency"], "fixed:200");
+  EXPECT_EQ(j["metric_constants"]["moving_ee_speed"], 0.02);
+  EXPECT_EQ(j["metric_constants"]["still_sustain"], 0.2);
+  EXPECT_EQ(j["metric_constants"].size(), constant_table(MetricConstants{}).size());
+  EXPECT_EQ(j["episodes"].size(), 4u);
+  EXPECT_EQ(j["episodes"][1]["seed"], 101);
+  EXPECT_EQ(j["episodes"][1]["primary_label"], "timeout");
+}
+
+TEST(Report, ResultsRoundTripReaggregateIdentically) {
+  const RunResults run = sample_run();
+  const RunResults back = results_from_json(nlohmann::json::parse(results_to_json(run).dump()), "r");
+  EXPECT_EQ(results_to_json(back), results_to_json(run));
+  EXPECT_EQ(summary_markdown(back), summary_markdown(run));
+  EXPECT_EQ(summary_csv(back), summary_csv(run));
+  ASSERT_EQ(back.episodes.size(), 4u);
+  EXPECT_EQ(back.episodes[2].metrics.hcs, run.episodes[2].metrics.hcs);
+  EXPECT_EQ(back.episodes[2].metrics.cues[0].response_time, run.episodes[2].metrics.cues[0].response_time);
+}
+
+TEST(Report, SummaryTables) {
+  const std::string md = summary_markdown(sample_run());
+  EXPECT_NE(md.find("| Role group | Policy | CSR↑ | CT↓ (s) | Rsp↓ (s) | TSync↑ | OC↑ | Safety↑ |"),
+            std::string::npos);
+  EXPECT_NE(md.find("| instructor | noop | 0.50 ["), std::string::npos);
+  EXPECT_NE(md.find("| overall | noop | 0.50 ["), std::string::npos);
+  EXPECT_NE(md.find("| IR↓ | CFR↑ | HCS↑ | CIR↑ | DSR↑ |"), std::string::npos);
+  EXPECT_NE(md.find("| Task | Policy |"), std::string::npos);
+  EXPECT_NE(md.find("| episodes | no_response | timeout |"), std::string::npos);  // priority order
+  EXPECT_NE(md.find("| still_sustain | 0.2 | s |"), std::string::npos);
+  const std::string csv = summary_csv(sample_run());
+  // Header + 2 roles + 2 tasks + overall.
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 6);
+  EXPECT_EQ(csv.rfind("level,group,policy,episodes,csr,csr_low,csr_high,ct,", 0), 0u);
+  EXPECT_NE(csv.find("\noverall,overall,noop,4,0.5,"), std::string::npos);
+}
+
+TEST(Report, CompareRuns) {
+  RunResults a = sample_run();
+  RunResults b = sample_run();
+  b.info.constants.still_sustain = 0.3;
+  const std::string md = compare_markdown({{"runs/A", a}, {"runs/B", b}});
+  EXPECT_NE(md.find("| runs/A | instructor | noop |"), std::string::npos);
+  EXPECT_NE(md.find("| runs/B | overall | noop |"), std::string::npos);
+  EXPECT_NE(md.find("Note: run runs/B used different metric constants than run runs/A."),
+            std::string::npos);
+  EXPECT_EQ(compare_markdown({{"A", a}, {"A2", a}}).find("Note:"), std::string::npos);
+}
+
+TEST(Report, WriteAndLoadRun) {
+  const auto dir = std::filesystem::temp_directory_path() / "hribench_eval_report_test";
+  std::filesystem::remove_all(dir);
+  const RunResults run = sample_run();
+  write_run(dir, run);
+  EXPECT_TRUE(std::filesystem::exists(dir / "summary.md"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "summary.csv"));
+  EXPECT_EQ(results_to_json(load_run(dir)), results_to_json(run));
+  std::ofstream(dir / "results.json") << "{\"format\": \"hribench-results\", ";
+  try {
+    load_run(dir);
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("expected a JSON results file, got invalid JSON at byte"),
+              std::string::npos);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Report, BadEpisodeFieldsNameTheirPlace) {
+  nlohmann::json j = episode_to_json(sample_run().episodes[0]);
+  j["hcs"] = "high";
+  try {
+    episode_from_json(j, "results.json: episodes[0]");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "results.json: episodes[0].hcs: expected a number, got string");
+  }
+  j = episode_to_json(sample_run().episodes[1]);
+  j["labels"][0] = "sleepy";
+  try {
+    episode_from_json(j, "e");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "e.labels[0]: expected a failure label (invalid, policy_error, ..., timeout), got "
+                 "'sleepy'");
+  }
+  j = episode_to_json(sample_run().episodes[1]);
+  j.erase("task");
+  EXPECT_THROW(episode_from_json(j, "e"), core::InputError);
+}
+
+}  // namespace
+}  // namespace hribench::eval
