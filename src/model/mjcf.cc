@@ -56,8 +56,9 @@ void shape_geoms(const std::vector<Shape>& shapes, double mass, std::string_view
     const double m = mass * s.volume() / total;
     if (s.kind == Shape::kBox) {
       out += fmt::format(
-          R"(<geom name="{}_g{}" class="{}" type="box" pos="{}" size="{}" mass="{}" {}/>)",
-          name_prefix, i, cls, vec(s.a), vec(s.b), num(m), extra);
+          R"(<geom name="{}_g{}" class="{}" type="box" pos="{}" quat="{}" size="{}" mass="{}" {}/>)",
+          name_prefix, i, cls, vec(s.a), quat(core::axis_angle(core::Vec3::UnitZ(), s.yaw)),
+          vec(s.b), num(m), extra);
     } else {
       out += fmt::format(
           R"(<geom name="{}_g{}" class="{}" type="{}" fromto="{} {}" size="{}" mass="{}" {}/>)",

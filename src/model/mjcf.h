@@ -33,8 +33,19 @@ struct Shape {
   core::Vec3 a = core::Vec3::Zero();  // capsule/cylinder: from; box: centre
   core::Vec3 b = core::Vec3::Zero();  // capsule/cylinder: to;   box: half sizes
   double radius = 0;
+  double yaw = 0;  // box only: rotation about the body z axis (rad)
   double volume() const;
 };
+
+inline Shape capsule(const core::Vec3& a, const core::Vec3& b, double r) {
+  return {Shape::kCapsule, a, b, r};
+}
+inline Shape box(const core::Vec3& centre, const core::Vec3& half) {
+  return {Shape::kBox, centre, half, 0};
+}
+inline Shape cylinder(const core::Vec3& a, const core::Vec3& b, double r) {
+  return {Shape::kCylinder, a, b, r};
+}
 
 // Writes shapes as geoms named "<prefix>_g<i>" of default class `cls` whose masses sum to
 // `mass` (split by volume). `extra` is appended inside each geom tag (e.g. rgba="...").

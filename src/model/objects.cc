@@ -1,6 +1,7 @@
 // The graspable objects: primitives with distinct shapes, each a free body whose frame origin
 // is the centre of its footprint on the bottom face (z up).
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -13,8 +14,6 @@ namespace {
 
 using core::Vec3;
 
-Shape box(Vec3 centre, Vec3 half) { return {Shape::kBox, centre, half, 0}; }
-Shape cylinder(Vec3 a, Vec3 b, double r) { return {Shape::kCylinder, a, b, r}; }
 
 // An open container: a floor and four walls, outer half extents (hx, hy), wall height h,
 // thickness t.
@@ -36,8 +35,13 @@ std::vector<Shape> shapes(ObjectKind kind, double s) {
     case ObjectKind::kBottle:
       return {cylinder(Vec3::Zero(), Vec3(0, 0, 0.16 * s), 0.032 * s),
               cylinder(Vec3(0, 0, 0.16 * s), Vec3(0, 0, 0.21 * s), 0.014 * s)};
-    case ObjectKind::kPlate:
-      return {cylinder(Vec3::Zero(), Vec3(0, 0, 0.016 * s), 0.1 * s)};
+    case ObjectKind::kPlate: {
+      // Collision: an octagon of two boxes (MuJoCo 2.2.2's cylinder-box contact is a single
+      // point, which makes a thin disk rock); a visual-only cylinder is added by object().
+      const double a = 0.1 * s / std::sqrt(2.0);
+      return {box(Vec3(0, 0, 0.008 * s), Vec3(a, a, 0.008 * s)),
+              {Shape::kBox, Vec3(0, 0, 0.008 * s), Vec3(a, a, 0.008 * s), 0, core::kPi / 4}};
+    }
     case ObjectKind::kBin:
       return container(0.12 * s, 0.09 * s, 0.1 * s, 0.008);
     case ObjectKind::kTray:
@@ -89,7 +93,15 @@ void object(const ObjectSpec& spec, ObjectKind kind, const Rgba& colour, const c
                            quat(X_WO.rotation));
   worldbody += "\n<freejoint name=\"" + body + "_free\"/>\n";
   const double mass = nominal_mass(kind) * s * s * s;
-  shape_geoms(shapes(kind, s), mass, body, "object", worldbody, colour_attr);
+  if (kind == ObjectKind::kPlate) {
+    shape_geoms(shapes(kind, s), mass, body, "object", worldbody, "group=\"3\" " + colour_attr);
+    worldbody += fmt::format(
+        R"(<geom name="{}_visual" type="cylinder" fromto="0 0 0 0 0 {}" size="{}" contype="0" conaffinity="0" mass="0" {}/>)",
+        body, num(0.016 * s), num(0.1 * s), colour_attr);
+    worldbody += "\n";
+  } else {
+    shape_geoms(shapes(kind, s), mass, body, "object", worldbody, colour_attr);
+  }
   if (kind == ObjectKind::kBox) {
     // The lid: hinged about +y at the top of the +x wall; q = 0 closed, opening upward.
     const double hx = 0.1 * s;

@@ -27,9 +27,6 @@ constexpr std::array<double, kArmDof> kKp = {4500, 4500, 3500, 3500, 2000, 2000,
 constexpr double kGripperKp = 1000;
 constexpr double kGripperKv = 40;
 
-Shape capsule(Vec3 a, Vec3 b, double r) { return {Shape::kCapsule, a, b, r}; }
-Shape box(Vec3 centre, Vec3 half) { return {Shape::kBox, centre, half, 0}; }
-Shape cylinder(Vec3 a, Vec3 b, double r) { return {Shape::kCylinder, a, b, r}; }
 
 // Collision geometry of each link in its own (DH) frame.
 std::vector<Shape> link_shapes(int link) {

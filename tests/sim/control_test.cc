@@ -1,0 +1,179 @@
+// Controllers: joint targets, ee_delta differential IK, gripper, and a scripted grasp by finger
+// contact only (no teleporting, no weld).
+
+#include "sim/control.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "model/model.h"
+#include "sim/data.h"
+#include "support/mujoco_fixture.h"
+
+namespace hribench::sim {
+namespace {
+
+using ControlTest = testing::MujocoTest;
+using core::Pose;
+using core::Vec3;
+
+// Steps `seconds` of physics.
+void run(const model::Model& model, Data& data, double seconds) {
+  const int n = static_cast<int>(std::lround(seconds / model::kTimestep));
+  for (int i = 0; i < n; ++i) step(model, data);
+}
+
+// Moves the TCP along a straight line to `target` in `seconds`, commanding at 20 Hz.
+void move_tcp(const model::Model& model, Data& data, const Pose& target, double seconds) {
+  const Pose start = tcp_pose(model, data);
+  const int ticks = static_cast<int>(std::lround(seconds * 20));
+  for (int k = 1; k <= ticks; ++k) {
+    const double s = static_cast<double>(k) / ticks;
+    Pose via;
+    via.translation = start.translation + s * (target.translation - start.translation);
+    via.rotation = start.rotation.slerp(s, target.rotation);
+    set_tcp_target(model, data, via);
+    run(model, data, 0.05);
+  }
+}
+
+TEST_F(ControlTest, JointTargetsAreClampedToLimitsAndTracked) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  Data data = make_data(model);
+  ArmVector q = model::kArmHome;
+  q[0] = 5.0;    // beyond +2.8973
+  q[3] = 0.5;    // beyond -0.0698
+  q[1] = 0.3;
+  set_joint_targets(model, data, q);
+  EXPECT_LT(data.q_target[0], model::kArmQMax[0]);
+  EXPECT_GT(data.q_target[0], model::kArmQMax[0] - 0.01);
+  EXPECT_LT(data.q_target[3], model::kArmQMax[3]);
+  EXPECT_DOUBLE_EQ(data.q_target[1], 0.3);
+  run(model, data, 3.0);
+  const ArmVector now = arm_joint_positions(model, data);
+  for (size_t i = 0; i < model::kArmDof; ++i) {
+    EXPECT_NEAR(now[i], data.q_target[i], 0.01) << "joint " << i + 1;
+    EXPECT_LE(now[i], model::kArmQMax[i] + 1e-3);
+    EXPECT_GE(now[i], model::kArmQMin[i] - 1e-3);
+  }
+  ExpectNoWarnings(data.mj.get());
+}
+
+TEST_F(ControlTest, EeDeltaMovesTheTcpByTheRequestedAmount) {
+  model::SceneSpec spec = model::SceneSpec::Default();
+  spec.objects.clear();
+  const model::Model model = model::build(spec);
+  Data data = make_data(model);
+  const Vec3 moves[] = {{0.03, 0, 0}, {0, 0.03, 0}, {0, 0, -0.03}, {-0.02, -0.02, 0.02}};
+  for (const Vec3& dp : moves) {
+    const Pose before = tcp_pose(model, data);
+    EeDelta delta;
+    delta.translation = dp;
+    const IkResult r = apply_ee_delta(model, data, delta);
+    EXPECT_LT(r.position_error, 1e-4);
+    run(model, data, 0.6);
+    const Pose after = tcp_pose(model, data);
+    EXPECT_LT((after.translation - before.translation - dp).norm(), 1.5e-3) << dp.transpose();
+    EXPECT_LT(Eigen::AngleAxisd(after.rotation * before.rotation.conjugate()).angle(), 0.01);
+  }
+  // A rotation about world z (yaw) of 0.3 rad, position kept.
+  const Pose before = tcp_pose(model, data);
+  EeDelta yaw;
+  yaw.rotation = Vec3(0, 0, 0.3);
+  apply_ee_delta(model, data, yaw);
+  run(model, data, 0.8);
+  const Pose after = tcp_pose(model, data);
+  const Eigen::AngleAxisd turned(after.rotation * before.rotation.conjugate());
+  EXPECT_NEAR(turned.angle(), 0.3, 0.01);
+  EXPECT_NEAR(std::abs(turned.axis().z()), 1.0, 0.02);
+  EXPECT_LT((after.translation - before.translation).norm(), 1.5e-3);
+  ExpectNoWarnings(data.mj.get());
+}
+
+TEST_F(ControlTest, EeDeltaRespectsJointLimits) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  Data data = make_data(model);
+  // Ask for far more than the arm can reach, repeatedly.
+  for (int k = 0; k < 40; ++k) {
+    EeDelta delta;
+    delta.translation = Vec3(0.05, 0, 0.05);
+    const IkResult r = apply_ee_delta(model, data, delta);
+    for (size_t i = 0; i < model::kArmDof; ++i) {
+      EXPECT_LT(r.q_target[i], model::kArmQMax[i]);
+      EXPECT_GT(r.q_target[i], model::kArmQMin[i]);
+    }
+    run(model, data, 0.05);
+  }
+  run(model, data, 1.0);
+  const ArmVector q = arm_joint_positions(model, data);
+  for (size_t i = 0; i < model::kArmDof; ++i) {
+    EXPECT_LE(q[i], model::kArmQMax[i] + 2e-3) << "joint " << i + 1;
+    EXPECT_GE(q[i], model::kArmQMin[i] - 2e-3) << "joint " << i + 1;
+  }
+  ExpectNoWarnings(data.mj.get());
+}
+
+TEST_F(ControlTest, GripperOpensAndClosesToTheCommandedWidth) {
+  model::SceneSpec spec = model::SceneSpec::Default();
+  spec.objects.clear();
+  const model::Model model = model::build(spec);
+  Data data = make_data(model);
+  EXPECT_NEAR(gripper_width(model, data), 0.08, 1e-6);
+  set_gripper_width(model, data, 0.03);
+  run(model, data, 0.5);
+  EXPECT_NEAR(gripper_width(model, data), 0.03, 1e-3);
+  // Fingers stay symmetric (coupled).
+  EXPECT_NEAR(data.mj->qpos[model.finger_qpos_adr[0]], data.mj->qpos[model.finger_qpos_adr[1]], 1e-3);
+  close_gripper(model, data);
+  run(model, data, 0.5);
+  EXPECT_LT(gripper_width(model, data), 2e-3);
+  set_gripper_width(model, data, 0.5);  // clamped
+  EXPECT_DOUBLE_EQ(data.gripper_width_target, 0.08);
+  run(model, data, 0.5);
+  EXPECT_NEAR(gripper_width(model, data), 0.08, 1e-3);
+  ExpectNoWarnings(data.mj.get());
+}
+
+TEST_F(ControlTest, ScriptedGraspLiftsTheCubeTenCentimetresAndHoldsIt) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  Data data = make_data(model);
+  const int cube = model.object_index("cube");
+  ASSERT_GE(cube, 0);
+  const model::ObjectInfo& info = model.objects[static_cast<size_t>(cube)];
+  const auto cube_position = [&] {
+    const mjtNum* q = data.mj->qpos + info.qpos_adr;
+    return Vec3(q[0], q[1], q[2]);
+  };
+  run(model, data, 0.2);
+  const Vec3 start = cube_position();
+  const Vec3 centre = start + Vec3(0, 0, info.half_extents.z());
+  // Top-down grasp: hand z down, fingers closing along world y.
+  Pose above;
+  above.rotation = core::axis_angle(Vec3::UnitX(), core::kPi);
+  above.translation = centre + Vec3(0, 0, 0.12);
+  move_tcp(model, data, above, 1.5);
+  Pose at = above;
+  at.translation = centre;
+  move_tcp(model, data, at, 1.0);
+  run(model, data, 0.3);
+  close_gripper(model, data);
+  run(model, data, 0.8);
+  EXPECT_GT(gripper_width(model, data), 0.045);  // stopped by the cube (0.05 m)
+  Pose lifted = at;
+  lifted.translation.z() += 0.10;
+  move_tcp(model, data, lifted, 1.0);
+  run(model, data, 0.3);
+  const Vec3 held = cube_position();
+  const Vec3 offset_start = held - tcp_pose(model, data).translation;
+  run(model, data, 2.0);
+  const Vec3 end = cube_position();
+  const Vec3 offset_end = end - tcp_pose(model, data).translation;
+  EXPECT_GE(end.z() - start.z(), 0.095);
+  EXPECT_LT((offset_end - offset_start).norm(), 0.005);
+  EXPECT_LT((end - held).norm(), 0.005);
+  ExpectNoWarnings(data.mj.get());
+}
+
+}  // namespace
+}  // namespace hribench::sim

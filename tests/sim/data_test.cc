@@ -1,0 +1,148 @@
+#include "sim/data.h"
+
+#include <cmath>
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "model/model.h"
+#include "sim/control.h"
+#include "support/mujoco_fixture.h"
+
+namespace hribench::sim {
+namespace {
+
+using DataTest = testing::MujocoTest;
+using core::Vec3;
+
+void run(const model::Model& model, Data& data, int steps) {
+  for (int i = 0; i < steps; ++i) step(model, data);
+}
+
+TEST_F(DataTest, HomePoseIsCollisionFreeAndStableForTwoSeconds) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  Data data = make_data(model);
+  const mjModel* m = model.m();
+  const mjData* d = data.mj.get();
+  // No robot geom touches anything at home.
+  for (int c = 0; c < d->ncon; ++c) {
+    const auto& t1 = model.geom_tags[static_cast<size_t>(d->contact[c].geom1)];
+    const auto& t2 = model.geom_tags[static_cast<size_t>(d->contact[c].geom2)];
+    EXPECT_FALSE(t1.is_robot() || t2.is_robot())
+        << mj_id2name(m, mjOBJ_GEOM, d->contact[c].geom1) << " - "
+        << mj_id2name(m, mjOBJ_GEOM, d->contact[c].geom2);
+  }
+  const core::Pose tcp0 = tcp_pose(model, data);
+  std::vector<Vec3> objects0;
+  for (const auto& o : model.objects)
+    objects0.emplace_back(d->qpos[o.qpos_adr], d->qpos[o.qpos_adr + 1], d->qpos[o.qpos_adr + 2]);
+  run(model, data, 1000);
+  EXPECT_NEAR(data.time(), 2.0, 1e-9);
+  const ArmVector q = arm_joint_positions(model, data);
+  for (size_t i = 0; i < model::kArmDof; ++i) EXPECT_NEAR(q[i], model::kArmHome[i], 1e-3) << i;
+  EXPECT_LT((tcp_pose(model, data).translation - tcp0.translation).norm(), 1e-3);
+  EXPECT_NEAR(gripper_width(model, data), 0.08, 1e-4);
+  for (size_t k = 0; k < model.objects.size(); ++k) {
+    const auto& o = model.objects[k];
+    const Vec3 p(d->qpos[o.qpos_adr], d->qpos[o.qpos_adr + 1], d->qpos[o.qpos_adr + 2]);
+    EXPECT_LT((p - objects0[k]).norm(), 2e-3) << o.name;
+    EXPECT_LT(std::abs(d->qvel[o.dof_adr + 2]), 1e-3) << o.name;
+  }
+  EXPECT_EQ(warning_count(data), 0);
+  EXPECT_EQ(warning_summary(data), "");
+  ExpectNoWarnings(d);
+}
+
+TEST_F(DataTest, EveryObjectKindRestsStablyOnTheTable) {
+  model::SceneSpec spec;
+  spec.human.present = false;
+  const char* kinds[] = {"cube", "cup", "bottle", "plate", "bin", "tray", "box", "plank"};
+  const double xs[] = {0.3, 0.3, 0.3, 0.6, 0.6, 0.85, 0.88, 0.55};
+  const double ys[] = {-0.35, -0.15, 0.05, -0.35, -0.05, 0.2, -0.25, 0.42};
+  for (size_t i = 0; i < 8; ++i) {
+    model::ObjectSpec o;
+    o.kind = kinds[i];
+    o.x = xs[i];
+    o.y = ys[i];
+    spec.objects.push_back(o);
+  }
+  const model::Model model = model::build(spec);
+  Data data = make_data(model);
+  run(model, data, 1000);
+  const mjData* d = data.mj.get();
+  for (const auto& o : model.objects) {
+    const Vec3 p(d->qpos[o.qpos_adr], d->qpos[o.qpos_adr + 1], d->qpos[o.qpos_adr + 2]);
+    EXPECT_LT((p - o.X_W_start.translation).norm(), 2e-3) << o.name;
+    const core::Quat r = core::quat_from_wxyz(d->qpos + o.qpos_adr + 3);
+    EXPECT_LT(Eigen::AngleAxisd(r * o.X_W_start.rotation.conjugate()).angle(), 0.01) << o.name;
+  }
+  // The box lid stays closed.
+  EXPECT_LT(std::abs(d->qpos[model.m()->jnt_qposadr[model.objects[6].lid_joint]]), 0.01);
+  ExpectNoWarnings(d);
+}
+
+TEST_F(DataTest, SetHumanPoseMovesTheMocapBodiesAtTheNextStep) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  Data data = make_data(model);
+  human::SkeletonPose pose = model.human_start;
+  pose.X_WP.translation += Vec3(0, 0.3, 0);
+  set_human_pose(model, data, pose);
+  EXPECT_TRUE(data.human_pose_dirty);
+  step(model, data);
+  EXPECT_FALSE(data.human_pose_dirty);
+  const auto X = human::forward_kinematics(model.skeleton, pose);
+  for (size_t j = 0; j < human::kNumJoints; ++j) {
+    const int mocap = model.human_mocap[j];
+    const Vec3 p(data.mj->mocap_pos[3 * mocap], data.mj->mocap_pos[3 * mocap + 1],
+                 data.mj->mocap_pos[3 * mocap + 2]);
+    EXPECT_LT((p - X[j].translation).norm(), 1e-12);
+  }
+  ExpectNoWarnings(data.mj.get());
+}
+
+TEST_F(DataTest, ResetRestoresTheStartStateAndIsDeterministic) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  Data a = make_data(model);
+  Data b = make_data(model);
+  const int nq = model.m()->nq;
+  std::vector<mjtNum> qpos0(a.mj->qpos, a.mj->qpos + nq);
+  // Disturb a, then reset it.
+  ArmVector q = model::kArmHome;
+  q[0] = 0.5;
+  set_joint_targets(model, a, q);
+  human::SkeletonPose pose = model.human_start;
+  pose.X_WP.translation.x() -= 0.2;
+  set_human_pose(model, a, pose);
+  run(model, a, 200);
+  reset(model, a);
+  EXPECT_EQ(a.time(), 0.0);
+  EXPECT_EQ(std::memcmp(a.mj->qpos, qpos0.data(), sizeof(mjtNum) * static_cast<size_t>(nq)), 0);
+  EXPECT_EQ(a.q_target, model::kArmHome);
+  // Same commands from the same state: bit-identical trajectories.
+  for (Data* d : {&a, &b}) {
+    set_joint_targets(model, *d, q);
+    run(model, *d, 300);
+  }
+  EXPECT_EQ(std::memcmp(a.mj->qpos, b.mj->qpos, sizeof(mjtNum) * static_cast<size_t>(nq)), 0);
+  ExpectNoWarnings(a.mj.get());
+  ExpectNoWarnings(b.mj.get());
+}
+
+TEST_F(DataTest, WarningsAreCountedAndDescribed) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  Data data = make_data(model);
+  // A NaN control is a MuJoCo BADCTRL warning (the fixture would fail on the printed warning,
+  // so silence the handler for this deliberate one).
+  void (*previous)(const char*) = mju_user_warning;
+  mju_user_warning = [](const char*) {};
+  data.mj->ctrl[0] = std::nan("");
+  mj_step(model.m(), data.mj.get());
+  mju_user_warning = previous;
+  EXPECT_EQ(warning_count(data), 1);
+  EXPECT_EQ(warning_summary(data).rfind("BADCTRL x1", 0), 0u) << warning_summary(data);
+  reset(model, data);
+  EXPECT_EQ(warning_count(data), 0);
+}
+
+}  // namespace
+}  // namespace hribench::sim

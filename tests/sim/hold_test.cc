@@ -1,0 +1,120 @@
+#include "sim/hold.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "model/model.h"
+#include "sim/data.h"
+#include "support/mujoco_fixture.h"
+
+namespace hribench::sim {
+namespace {
+
+using HoldTest = testing::MujocoTest;
+using core::Pose;
+using core::Vec3;
+
+Pose object_pose(const model::Model& model, const Data& data, int object) {
+  const mjtNum* q = data.mj->qpos + model.objects[static_cast<size_t>(object)].qpos_adr;
+  Pose X;
+  X.translation = Vec3(q[0], q[1], q[2]);
+  X.rotation = core::quat_from_wxyz(q + 3).normalized();
+  return X;
+}
+
+// A pose with the right arm raised forward (shoulder rotated about the body's y axis) and the
+// person standing at x.
+human::SkeletonPose reaching(const model::Model& model, double x, double raise) {
+  human::SkeletonPose pose = human::SkeletonPose::Standing(model.skeleton, x, 0.0, core::kPi);
+  pose.local[static_cast<size_t>(human::index(human::Joint::kRightShoulder))] =
+      core::axis_angle(Vec3::UnitY(), -raise);
+  return pose;
+}
+
+human::SkeletonPose blend(const human::SkeletonPose& a, const human::SkeletonPose& b, double s) {
+  human::SkeletonPose p = a;
+  p.X_WP.translation = a.X_WP.translation + s * (b.X_WP.translation - a.X_WP.translation);
+  p.X_WP.rotation = a.X_WP.rotation.slerp(s, b.X_WP.rotation);
+  for (size_t j = 0; j < human::kNumJoints; ++j) p.local[j] = a.local[j].slerp(s, b.local[j]);
+  return p;
+}
+
+model::SceneSpec held_cube_scene() {
+  model::SceneSpec spec;
+  model::ObjectSpec cube;
+  cube.kind = "cube";
+  cube.name = "cube";
+  cube.held_by = human::Side::kRight;
+  spec.objects.push_back(cube);
+  return spec;
+}
+
+TEST_F(HoldTest, HeldObjectFollowsTheHandAndFallsOntoTheTableWhenReleased) {
+  const model::Model model = model::build(held_cube_scene());
+  Data data = make_data(model);
+  ASSERT_EQ(held_object(data, human::Side::kRight), 0);
+  EXPECT_EQ(held_object(data, human::Side::kLeft), std::nullopt);
+  const auto target = [&] { return palm_pose(model, data, human::Side::kRight) * model.objects[0].X_palm_hold; };
+  EXPECT_LT((object_pose(model, data, 0).translation - target().translation).norm(), 1e-9);
+
+  // Walk to the table and raise the arm over it in 1.5 s; the cube follows.
+  const human::SkeletonPose from = model.human_start;
+  const human::SkeletonPose to = reaching(model, 1.25, core::deg_to_rad(70));
+  double worst = 0;
+  const int steps = 750;
+  for (int i = 1; i <= steps; ++i) {
+    set_human_pose(model, data, blend(from, to, static_cast<double>(i) / steps));
+    step(model, data);
+    worst = std::max(worst, (object_pose(model, data, 0).translation - target().translation).norm());
+  }
+  for (int i = 0; i < 250; ++i) step(model, data);
+  const Pose settled = object_pose(model, data, 0);
+  EXPECT_LT(worst, 0.02);
+  EXPECT_LT((settled.translation - target().translation).norm(), 0.003);
+  EXPECT_LT(Eigen::AngleAxisd(settled.rotation * target().rotation.conjugate()).angle(), 0.02);
+  const Vec3 moved = settled.translation - model.objects[0].X_W_start.translation;
+  EXPECT_GT(moved.norm(), 0.3);  // it really travelled with the hand
+  ASSERT_GT(settled.translation.z(), model::kTableTopZ + 0.1);
+  ASSERT_LT(settled.translation.x(), model::kTableXMax - 0.05);
+
+  // Let go: it falls onto the table and comes to rest there.
+  release_by_human(model, data, human::Side::kRight);
+  EXPECT_EQ(held_object(data, human::Side::kRight), std::nullopt);
+  for (int i = 0; i < 1000; ++i) step(model, data);
+  const Pose fallen = object_pose(model, data, 0);
+  const mjtNum* v = data.mj->qvel + model.objects[0].dof_adr;
+  EXPECT_LT(fallen.translation.z(), model::kTableTopZ + 0.05);
+  EXPECT_GT(fallen.translation.z(), model::kTableTopZ - 0.005);
+  EXPECT_LT(Vec3(v[0], v[1], v[2]).norm(), 0.01);
+  ExpectNoWarnings(data.mj.get());
+}
+
+TEST_F(HoldTest, GraspCapturesTheCurrentRelativePose) {
+  model::SceneSpec spec = model::SceneSpec::Default();
+  const model::Model model = model::build(spec);
+  Data data = make_data(model);
+  const int cube = model.object_index("cube");
+  // The hand holds the cube where it is (far from the hand); moving the human moves the cube
+  // by the same displacement.
+  grasp_by_human(model, data, human::Side::kLeft, cube);
+  const Pose before = object_pose(model, data, cube);
+  human::SkeletonPose pose = model.human_start;
+  const human::SkeletonPose start = pose;
+  pose.X_WP.translation += Vec3(0, 0, 0.1);
+  for (int i = 1; i <= 250; ++i) {
+    set_human_pose(model, data, blend(start, pose, i / 250.0));
+    step(model, data);
+  }
+  for (int i = 0; i < 250; ++i) step(model, data);
+  const Pose after = object_pose(model, data, cube);
+  EXPECT_LT((after.translation - before.translation - Vec3(0, 0, 0.1)).norm(), 0.003);
+  // Grasping with the other hand moves the hold to that hand.
+  grasp_by_human(model, data, human::Side::kRight, cube);
+  EXPECT_EQ(held_object(data, human::Side::kLeft), std::nullopt);
+  EXPECT_EQ(held_object(data, human::Side::kRight), cube);
+  ExpectNoWarnings(data.mj.get());
+}
+
+}  // namespace
+}  // namespace hribench::sim
