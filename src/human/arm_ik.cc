@@ -211,6 +211,12 @@ std::vector<LimitViolation> check_joint_limits(const SkeletonPose& pose) {
     if (v > limit_deg + 1e-6) out.push_back({j, what, v, limit_deg});
   };
   const auto local = [&](Joint j) { return pose.local[static_cast<size_t>(index(j))]; };
+  for (int j = 1; j < kNumJoints; ++j) {
+    if (!pose.local[static_cast<size_t>(j)].coeffs().allFinite()) {
+      out.push_back({static_cast<Joint>(j), "non-finite rotation", std::nan(""), 0});
+    }
+  }
+  if (!out.empty()) return out;
   for (const Side side : {Side::kLeft, Side::kRight}) {
     // Shoulder: humeral rotation, and extension of the upper arm behind the body.
     const Quat qs = local(shoulder(side));

@@ -72,7 +72,8 @@ double lean_for_reach(const Skeleton& skeleton, const SkeletonPose& pose, Side s
 // Human joint-angle limits (degrees), generous ranges from clinical norms: elbow flexion
 // 0-150 (hyperextension <= 10), wrist swing <= 80 and pro/supination <= 90, shoulder humeral
 // rotation <= 110 and extension behind the body <= 70, each spine joint <= 30, neck/head <= 60,
-// collar <= 30, hip <= 110, knee flexion 0-150, ankle <= 45, foot <= 30.
+// collar <= 30, hip <= 110, knee flexion 0-150, ankle <= 45, foot <= 30. A non-finite rotation
+// is reported as "non-finite rotation" (value NaN) and nothing else is checked.
 struct LimitViolation {
   Joint joint;
   std::string what;  // e.g. "elbow flexion"

@@ -245,7 +245,8 @@ CheckResult check_clip_joint_limits(const Clip& clip) {
   CheckResult r;
   for (size_t f = 0; f < clip.frames.size(); ++f) {
     for (const LimitViolation& v : check_joint_limits(clip.frames[f])) {
-      const double excess = v.value_deg - v.limit_deg;
+      const double excess = std::isfinite(v.value_deg) ? v.value_deg - v.limit_deg
+                                                       : std::numeric_limits<double>::infinity();
       if (excess > r.worst || r.ok) {
         r.ok = false;
         r.worst = excess;
@@ -268,7 +269,8 @@ CheckResult check_bone_lengths(const Clip& clip, double tolerance) {
       const double length = (X[static_cast<size_t>(j)].translation -
                              X[static_cast<size_t>(index(*parent(joint)))].translation)
                                 .norm();
-      const double err = std::abs(length - clip.skeleton.bone_length(joint));
+      const double err = std::isfinite(length) ? std::abs(length - clip.skeleton.bone_length(joint))
+                                               : std::numeric_limits<double>::infinity();
       if (err > r.worst) {
         r.worst = err;
         r.time = frame_time(clip, f);

@@ -320,6 +320,26 @@ TEST(MotionTest, HandsReachTheirTargets) {
   EXPECT_NEAR(std::acos((palm - hinge).normalized().dot((handle - hinge).normalized())), 100 * core::kPi / 180, 0.02);
 }
 
+TEST(MotionTest, GesturesOrientThePalm) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  // The person faces world -x: the robot is in front (-x), up is +z.
+  const auto palm_at = [&](const std::string& name, const std::string& phase) {
+    const MotionPlan plan = plan_motion(k, standing(k), example(name, "left"));
+    const auto tl = plan.timeline({{phase, 0}});
+    double t = 0;
+    for (const Phase& ph : tl) {
+      if (ph.name == phase) t = ph.start + 0.01;
+    }
+    const auto X = forward_kinematics(k, plan.pose_at(t, {{phase, 0}}));
+    return palm_normal(Side::kLeft, X[index(Joint::kLeftWrist)]);
+  };
+  EXPECT_GT(palm_at("stop", "hold").dot(-Vec3::UnitX()), 0.7);   // palm toward the robot
+  EXPECT_GT(palm_at("give_me", "gesture").dot(Vec3::UnitZ()), 0.7);  // palm up
+  EXPECT_GT(palm_at("receive", "open").dot(Vec3::UnitZ()), 0.7);
+  // Side grasp: the left palm faces the midline, which is world +y for a person facing -x.
+  EXPECT_GT(palm_at("pick", "grasp").dot(Vec3::UnitY()), 0.5);
+}
+
 TEST(MotionTest, WalkToArrivesAndFacesTheRequestedHeading) {
   const Skeleton k = Skeleton::FromHeight(1.75);
   PrimitiveParams p = example("walk_to");
