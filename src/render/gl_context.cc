@@ -121,6 +121,12 @@ const OsmesaApi& osmesa_api() {
 class OsmesaContext final : public GlContext {
  public:
   OsmesaContext() {
+    // MuJoCo's glad would take a globally visible eglGetProcAddress over OSMesa's loader.
+    if (dlsym(RTLD_DEFAULT, "eglGetProcAddress") != nullptr) {
+      fail(Backend::kOsmesa,
+           "libEGL is linked into this program, so MuJoCo would load GL functions through EGL; "
+           "link without libEGL (the render layer loads it itself) or use --backend egl");
+    }
     const OsmesaApi& api = osmesa_api();
     context_ = api.create(OSMESA_RGBA, 24, 8, 0, nullptr);
     if (context_ == nullptr) fail(Backend::kOsmesa, "OSMesaCreateContextExt failed");

@@ -34,14 +34,6 @@ class ThrowingMujocoErrors {
   void (*previous_)(const char*);
 };
 
-void check_side(std::string_view where, int pixels) {
-  if (pixels < 1 || pixels > kMaxImageSide) {
-    throw core::InputError(std::string(where),
-                           "an image side in [1, " + std::to_string(kMaxImageSide) + "] pixels",
-                           std::to_string(pixels));
-  }
-}
-
 // Room for everything mjv_updateScene may add with default options (geoms, sites, tendon
 // segments, lights' decor), so it never raises mjWARN_VGEOMFULL into the caller's mjData.
 int scene_capacity(const mjModel& m) {
@@ -64,8 +56,7 @@ void flip_rows(T* data, int width, int height, int channels) {
 Renderer::Renderer(Backend backend, const mjModel& m, int width, int height,
                    RenderSettings settings)
     : backend_(backend), width_(width), height_(height), settings_(settings) {
-  check_side("width", width);
-  check_side("height", height);
+  check_image_size(width, height);
   HRIB_CHECK(settings.multisamples >= 0 && settings.shadow_map_size >= 0)
       << "multisamples " << settings.multisamples << ", shadow map " << settings.shadow_map_size;
   mjv_defaultOption(&option_);
@@ -193,7 +184,19 @@ std::unique_ptr<Renderer> make_renderer(Backend backend, const mjModel& m, int w
   return std::make_unique<Renderer>(backend, m, width, height, settings);
 }
 
-int camera_id(const mjModel& m, std::string_view name) {
+void check_image_size(int width, int height, std::string_view width_name,
+                      std::string_view height_name) {
+  for (const auto& [where, pixels] :
+       {std::pair{width_name, width}, std::pair{height_name, height}}) {
+    if (pixels < 1 || pixels > kMaxImageSide) {
+      throw core::InputError(std::string(where),
+                             "an image side in [1, " + std::to_string(kMaxImageSide) + "] pixels",
+                             std::to_string(pixels));
+    }
+  }
+}
+
+int camera_id(const mjModel& m, std::string_view name, std::string_view where) {
   const int id = mj_name2id(&m, mjOBJ_CAMERA, std::string(name).c_str());
   if (id >= 0) return id;
   std::string names;
@@ -201,7 +204,7 @@ int camera_id(const mjModel& m, std::string_view name) {
     const char* n = mj_id2name(&m, mjOBJ_CAMERA, i);
     names += (i > 0 ? ", " : "") + std::string(n != nullptr ? n : "#" + std::to_string(i));
   }
-  throw core::InputError("camera", m.ncam > 0 ? "one of " + names : "a camera (the model has none)",
+  throw core::InputError(std::string(where), m.ncam > 0 ? "one of " + names : "a camera (the model has none)",
                          "'" + std::string(name) + "'");
 }
 

@@ -96,7 +96,12 @@ class Renderer {
 std::unique_ptr<Renderer> make_renderer(Backend backend, const mjModel& m, int width, int height,
                                         RenderSettings settings = {});
 
-// The id of camera `name` in `m`. Throws core::InputError("camera", "one of A, B", "'name'").
-int camera_id(const mjModel& m, std::string_view name);
+// The id of camera `name` in `m`. Throws core::InputError(where, "one of A, B", "'name'").
+int camera_id(const mjModel& m, std::string_view name, std::string_view where = "camera");
+
+// Throws core::InputError(width_name or height_name, ...) unless both sides are in
+// [1, kMaxImageSide] pixels.
+void check_image_size(int width, int height, std::string_view width_name = "width",
+                      std::string_view height_name = "height");
 
 }  // namespace hribench::render
