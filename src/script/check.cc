@@ -113,6 +113,7 @@ class Validator {
     struct Visitor {
       Validator& self;
       void operator()(Param& p, ParamType type) {
+        if (p.bad) return;
         for (const std::string& ref : var_refs(p.expr)) {
           if (!contains(self.var_names_, ref)) {
             self.problem_at(p.where.text, "a defined var (vars: " + join(self.var_names_) + ")", "$" + ref);
@@ -142,6 +143,7 @@ class Validator {
 
   // Words a Text can take; empty + problem when they cannot be known.
   std::vector<std::string> words(const Param& p, const std::string& what) {
+    if (p.bad) return {};
     const StringSet set = string_values(p.expr, var_names_, var_defs_);
     if (!set.complete) {
       problem_at(p.where.text, what + " (a word, or a choice or var of words)", "'" + to_source(p.expr) + "'");
@@ -156,6 +158,7 @@ class Validator {
   }
   Range range(const Param& p) const { return value_range(p.expr, var_names_, var_defs_); }
   void check_range(const Param& p, double lo, double hi, const std::string& what) {
+    if (p.bad) return;
     const Range r = range(p);
     if (r.lo < lo || r.hi > hi) {
       problem_at(p.where.text, what + " in [" + fmt(lo) + ", " + fmt(hi) + "]",
@@ -452,6 +455,7 @@ class Validator {
       return;
     }
     for (const ValueTree& c : v.items) {
+      if (c.kind == ValueTree::Kind::kScalar && c.scalar.bad) continue;
       if (c.kind != ValueTree::Kind::kScalar || expr_type(c.scalar.expr, var_names_, var_defs_) != "number") {
         problem_at(c.where.text, "a coordinate (number or distribution)", c.kind == ValueTree::Kind::kScalar ? "'" + to_source(c.scalar.expr) + "'" : "a collection");
         continue;
@@ -464,6 +468,7 @@ class Validator {
     const std::string name(info.name);
     switch (info.kind) {
       case human::ParamKind::kNumber:
+        if (v.kind == ValueTree::Kind::kScalar && v.scalar.bad) return;
         if (v.kind != ValueTree::Kind::kScalar || expr_type(v.scalar.expr, var_names_, var_defs_) != "number") {
           problem(path, name + ": a number or distribution (" + std::string(info.unit) + ")",
                   v.kind == ValueTree::Kind::kScalar ? "'" + to_source(v.scalar.expr) + "'" : "a collection");

@@ -32,6 +32,7 @@ struct Where {
 struct Param {
   Expr expr;
   Where where;
+  bool bad = false;  // the text could not be read (already reported): skip further checks
   bool operator==(const Param&) const = default;
 };
 struct Num : Param {

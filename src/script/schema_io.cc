@@ -191,6 +191,7 @@ class YamlIn {
   }
   void read(const YAML::Node& n, const std::string& path, Num& out) {
     out.where.text = where(n, path);
+    out.bad = true;
     if (!scalar(n, path, "a number or a distribution")) return;
     Expr e;
     if (!parse(n, path, e)) return;
@@ -209,9 +210,11 @@ class YamlIn {
       return;
     }
     out.expr = std::move(e);
+    out.bad = false;
   }
   void read(const YAML::Node& n, const std::string& path, Text& out) {
     out.where.text = where(n, path);
+    out.bad = true;
     if (!scalar(n, path, "a word, $var or choice([...])")) return;
     Expr e;
     if (!parse(n, path, e)) return;
@@ -227,11 +230,11 @@ class YamlIn {
       return;
     }
     out.expr = std::move(e);
+    out.bad = false;
   }
   void read(const YAML::Node& n, const std::string& path, Any& out) {
     out.where.text = where(n, path);
-    if (!scalar(n, path, "a value, $var or distribution")) return;
-    parse(n, path, out.expr);
+    out.bad = !scalar(n, path, "a value, $var or distribution") || !parse(n, path, out.expr);
   }
   void read(const YAML::Node& n, const std::string& path, Pred& out) {
     out.where.text = where(n, path);
@@ -250,9 +253,14 @@ class YamlIn {
       out.kind = ValueTree::Kind::kMap;
       for (auto it = n.begin(); it != n.end(); ++it) {
         if (!it->first.IsScalar()) continue;
-        out.keys.push_back(it->first.Scalar());
-        out.items.emplace_back();
-        read(it->second, path + "." + it->first.Scalar(), out.items.back());
+        // Keys in name order (the canonical order, as JSON objects keep it).
+        const std::string key = it->first.Scalar();
+        const size_t at = static_cast<size_t>(
+            std::lower_bound(out.keys.begin(), out.keys.end(), key) - out.keys.begin());
+        out.keys.insert(out.keys.begin() + static_cast<std::ptrdiff_t>(at), key);
+        ValueTree item;
+        read(it->second, path + "." + key, item);
+        out.items.insert(out.items.begin() + static_cast<std::ptrdiff_t>(at), std::move(item));
       }
     } else {
       problem(n, path, "a value", core::yaml_kind(n));
@@ -477,6 +485,9 @@ class JsonIn {
         out.expr = parse_expr(out.expr.text);
       } catch (const ExprError& e) {
         throw core::InputError(loc(p), e.expected, e.got);
+      }
+      if (out.expr.kind == Expr::Kind::kString || out.expr.kind == Expr::Kind::kTemplate) {
+        throw core::InputError(loc(p), "a number or a distribution", "'" + out.expr.text + "'");
       }
     }
   }

@@ -1,0 +1,123 @@
+#include "script/sample.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <set>
+
+#include "core/errors.h"
+#include "core/json.h"
+#include "script/check.h"
+#include "script/schema_io.h"
+
+namespace hribench::script {
+namespace {
+
+const char* kHandover = "tests/data/scripts/good/handover_h2r.yaml";
+
+const Num& stand_x(const EpisodeSpec& s) { return s.human.stand.x; }
+
+TEST(SampleTest, SameSeedGivesTheSameSpecAndHash) {
+  const Scenario scenario = load_scenario(kHandover);
+  const EpisodeSpec a = sample(scenario, 42);
+  const EpisodeSpec b = sample(scenario, 42);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(spec_hash(a), spec_hash(b));
+  EXPECT_EQ(spec_to_text(a), spec_to_text(b));
+  EXPECT_EQ(spec_hash(a).size(), 64U);
+}
+
+TEST(SampleTest, DifferentSeedsGiveDifferentSpecs) {
+  const Scenario scenario = load_scenario(kHandover);
+  std::set<std::string> hashes;
+  std::set<double> heights;
+  for (uint64_t seed = 0; seed < 20; ++seed) {
+    const EpisodeSpec spec = sample(scenario, seed);
+    hashes.insert(spec_hash(spec));
+    heights.insert(spec.human.height.value());
+    // Every value is resolved and inside its distribution's support.
+    EXPECT_GE(spec.human.height.value(), 1.55);
+    EXPECT_LT(spec.human.height.value(), 1.95);
+    EXPECT_GE(spec.human.stand.yaw_deg.value(), 170.0);
+    EXPECT_LE(spec.human.stand.yaw_deg.value(), 190.0);
+  }
+  EXPECT_EQ(hashes.size(), 20U);
+  EXPECT_EQ(heights.size(), 20U);
+}
+
+TEST(SampleTest, VarsAreDrawnOnceAndShared) {
+  const Scenario scenario = load_scenario(kHandover);
+  std::set<std::string> hands;
+  for (uint64_t seed = 0; seed < 16; ++seed) {
+    const EpisodeSpec spec = sample(scenario, seed);
+    ASSERT_EQ(spec.vars[0].name, "hand");
+    const std::string hand = spec.vars[0].value.expr.text;
+    hands.insert(hand);
+    const SceneObject& item = spec.scene.objects[0].value;
+    EXPECT_EQ(item.held_by->value(), "human." + hand);
+    EXPECT_EQ(item.kind.value(), spec.vars[1].value.expr.text);
+    EXPECT_EQ(spec.safety.contact_permitted[0].human.value(), hand + ".hand");
+    // The instruction names the drawn colour and kind.
+    EXPECT_EQ(spec.instruction, "Take the " + item.color->value() + " " + item.kind.value() +
+                                    " from the person and put it in the bin.");
+    // Distractors are drawn into the scene.
+    EXPECT_LE(spec.scene.objects.size(), 4U);
+    EXPECT_EQ(spec.scene.distractors.count.value(), 0.0);
+  }
+  EXPECT_EQ(hands.size(), 2U);
+}
+
+// Streams are split per section: the human's draws do not depend on the acts.
+TEST(SampleTest, SectionsDrawFromIndependentStreams) {
+  Scenario scenario = load_scenario(kHandover);
+  const EpisodeSpec before = sample(scenario, 7);
+  scenario.acts[0].value.onset->expr = parse_expr("U(0.1, 0.2)");
+  const EpisodeSpec after = sample(scenario, 7);
+  EXPECT_EQ(stand_x(before).value(), stand_x(after).value());
+  EXPECT_EQ(before.human, after.human);
+  EXPECT_EQ(before.scene, after.scene);
+  EXPECT_NE(before.acts[0].value.onset->value(), after.acts[0].value.onset->value());
+}
+
+TEST(SampleTest, JsonRoundTripIsExact) {
+  const Scenario scenario = load_scenario(kHandover);
+  for (uint64_t seed = 100; seed < 110; ++seed) {
+    const EpisodeSpec spec = sample(scenario, seed);
+    const std::string text = spec_to_text(spec);
+    const EpisodeSpec back = spec_from_text(text, "spec.json");
+    EXPECT_EQ(back, spec);
+    EXPECT_EQ(spec_hash(back), spec_hash(spec));
+    EXPECT_EQ(spec_to_text(back), text);
+    // Doubles bit for bit.
+    const double a = spec.human.height.value(), b = back.human.height.value();
+    EXPECT_EQ(std::memcmp(&a, &b, sizeof a), 0);
+  }
+}
+
+TEST(SampleTest, HashChangesWithAnyValue) {
+  const EpisodeSpec spec = sample(load_scenario(kHandover), 3);
+  EpisodeSpec changed = spec;
+  changed.human.height = Num(std::nextafter(spec.human.height.value(), 3.0));
+  EXPECT_NE(spec_hash(changed), spec_hash(spec));
+}
+
+TEST(SampleTest, MalformedSpecJsonNamesThePath) {
+  const EpisodeSpec spec = sample(load_scenario(kHandover), 3);
+  core::Json j = to_json(spec);
+  j["human"]["height"] = "tall";
+  try {
+    episode_from_json(j, "spec.json");
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(e.where(), "spec.json (human.height)");
+  }
+  j = to_json(spec);
+  j["acts"][0]["colour"] = 1;
+  EXPECT_THROW(episode_from_json(j, "spec.json"), core::InputError);
+  j = to_json(spec);
+  j.erase("seed");
+  EXPECT_THROW(episode_from_json(j, "spec.json"), core::InputError);
+}
+
+}  // namespace
+}  // namespace hribench::script
