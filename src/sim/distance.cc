@@ -220,7 +220,7 @@ Witness segment_box(const Segment& seg, const Box& box) {
 // Signed point–cylinder witness (A = the point).
 Witness point_cylinder(const Vec3& p_W, const Cylinder& cyl) {
   const Vec3 q = cyl.R_WC.transpose() * (p_W - cyl.center_W);
-  const double rho = std::hypot(q.x(), q.y());
+  const double rho = std::sqrt(q.x() * q.x() + q.y() * q.y());
   const Vec3 radial = rho > 1e-12 ? Vec3(q.x() / rho, q.y() / rho, 0.0) : Vec3::UnitX();
   const double dr = rho - cyl.radius;
   const double dz = std::abs(q.z()) - cyl.half_length;
@@ -243,40 +243,56 @@ Witness point_cylinder(const Vec3& p_W, const Cylinder& cyl) {
   return from_points(p_W, cyl.center_W + cyl.R_WC * surface, Vec3::UnitX());
 }
 
-// Segment–cylinder: golden-section search of the convex signed distance along the segment.
+// Segment–cylinder: golden-section search of the convex signed distance along the segment,
+// on a scalar form of point_cylinder in the cylinder's frame (the witness is built once).
 Witness segment_cylinder(const Segment& seg, const Cylinder& cyl) {
   const Vec3 d = seg.p1_W - seg.p0_W;
-  const auto f = [&](double t) { return point_cylinder(seg.p0_W + t * d, cyl); };
-  if (d.squaredNorm() <= kTinySq) return f(0.0);
+  if (d.squaredNorm() <= kTinySq) return point_cylinder(seg.p0_W, cyl);
+  const Vec3 p0 = cyl.R_WC.transpose() * (seg.p0_W - cyl.center_W);
+  const Vec3 u = cyl.R_WC.transpose() * d;
+  const auto f = [&](double t) {
+    const Vec3 q = p0 + t * u;
+    const double dr = std::sqrt(q.x() * q.x() + q.y() * q.y()) - cyl.radius;
+    const double dz = std::abs(q.z()) - cyl.half_length;
+    if (dr <= 0 && dz <= 0) return std::max(dr, dz);
+    const double er = std::max(dr, 0.0);
+    const double ez = std::max(dz, 0.0);
+    return std::sqrt(er * er + ez * ez);
+  };
   constexpr double kInvPhi = 0.6180339887498949;
   double lo = 0.0;
   double hi = 1.0;
   double x1 = hi - kInvPhi * (hi - lo);
   double x2 = lo + kInvPhi * (hi - lo);
-  double f1 = f(x1).points.distance;
-  double f2 = f(x2).points.distance;
-  for (int it = 0; it < 64; ++it) {
+  double f1 = f(x1);
+  double f2 = f(x2);
+  // 0.618^60 ~ 3e-13 of the segment length.
+  for (int it = 0; it < 60; ++it) {
     if (f1 <= f2) {
       hi = x2;
       x2 = x1;
       f2 = f1;
       x1 = hi - kInvPhi * (hi - lo);
-      f1 = f(x1).points.distance;
+      f1 = f(x1);
     } else {
       lo = x1;
       x1 = x2;
       f1 = f2;
       x2 = lo + kInvPhi * (hi - lo);
-      f2 = f(x2).points.distance;
+      f2 = f(x2);
     }
   }
   // The search never evaluates the end points themselves: compare them too.
-  Witness best = f(0.5 * (lo + hi));
+  double best_t = 0.5 * (lo + hi);
+  double best_f = f(best_t);
   for (const double t : {0.0, 1.0}) {
-    const Witness w = f(t);
-    if (w.points.distance < best.points.distance) best = w;
+    const double ft = f(t);
+    if (ft < best_f) {
+      best_f = ft;
+      best_t = t;
+    }
   }
-  return best;
+  return point_cylinder(seg.p0_W + best_t * d, cyl);
 }
 
 Segment point_segment(const Vec3& p) { return {p, p}; }

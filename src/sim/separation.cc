@@ -1,6 +1,8 @@
 #include "sim/separation.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <optional>
 
 #include "core/errors.h"
@@ -88,16 +90,34 @@ Separation pair_separation(const SeparationMonitor& monitor, const mjData& d, si
 }
 
 Separation min_separation(const SeparationMonitor& monitor, const mjData& d) {
-  Separation best;
-  for (size_t i = 0; i < monitor.robot.size(); ++i) {
+  // Lower bound of a pair's distance from the bounding spheres.
+  const auto lower_bound = [&](size_t i, size_t j) {
     const SeparationMonitor::Geom& r = monitor.robot[i];
-    const core::Vec3 centre_r = centre_of(d, r.id);
+    const SeparationMonitor::Geom& h = monitor.human[j];
+    return (centre_of(d, h.id) - centre_of(d, r.id)).norm() - r.bound - h.bound;
+  };
+  // Seed the search with the pair of smallest lower bound, so that most pairs are pruned.
+  double seed_bound = std::numeric_limits<double>::infinity();
+  size_t seed_i = 0;
+  size_t seed_j = 0;
+  for (size_t i = 0; i < monitor.robot.size(); ++i) {
     for (size_t j = 0; j < monitor.human.size(); ++j) {
-      const SeparationMonitor::Geom& h = monitor.human[j];
-      // Bounding spheres give a lower bound; skip pairs that cannot beat the best.
-      const double lower = (centre_of(d, h.id) - centre_r).norm() - r.bound - h.bound;
-      if (lower >= best.distance) continue;
-      const Separation s = pair_separation(monitor, d, i, j);
+      const double lower = lower_bound(i, j);
+      if (lower < seed_bound) {
+        seed_bound = lower;
+        seed_i = i;
+        seed_j = j;
+      }
+    }
+  }
+  Separation best;
+  if (!std::isfinite(seed_bound)) return best;  // no robot or no human geoms
+  const Separation seed = pair_separation(monitor, d, seed_i, seed_j);
+  // Exact distances of the pairs whose bound can beat the best so far (ties: lowest ids).
+  for (size_t i = 0; i < monitor.robot.size(); ++i) {
+    for (size_t j = 0; j < monitor.human.size(); ++j) {
+      if (lower_bound(i, j) > std::min(best.distance, seed.distance)) continue;
+      const Separation s = (i == seed_i && j == seed_j) ? seed : pair_separation(monitor, d, i, j);
       if (s.distance < best.distance) best = s;
     }
   }
