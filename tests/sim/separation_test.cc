@@ -31,6 +31,9 @@ constexpr char kSceneXml[] = R"(
       <geom name="r_arm" type="capsule" fromto="0 0 0.3 0 0 0.6" size="0.04"/>
       <geom name="r_visual" type="sphere" pos="0 -0.3 0" size="0.05" contype="0" conaffinity="0"/>
     </body>
+    <body name="wrist" pos="-0.5 0 0.5">
+      <geom name="r_ell" type="ellipsoid" size="0.1 0.05 0.03"/>
+    </body>
     <body name="finger" pos="0.5 0 0.5">
       <geom name="r_cyl" type="cylinder" size="0.05 0.1"/>
     </body>
@@ -84,6 +87,7 @@ std::unique_ptr<Scene> LoadScene() {
   tag("r_box", {GeomOwner::kRobotLink, 3, human::BodyRegion::kTorso, human::Joint::kPelvis});
   tag("r_arm", {GeomOwner::kRobotLink, 3, human::BodyRegion::kTorso, human::Joint::kPelvis});
   tag("r_visual", {GeomOwner::kRobotLink, 3, human::BodyRegion::kTorso, human::Joint::kPelvis});
+  tag("r_ell", {GeomOwner::kRobotLink, 6, human::BodyRegion::kTorso, human::Joint::kPelvis});
   tag("r_cyl", {GeomOwner::kRobotFinger, 0, human::BodyRegion::kTorso, human::Joint::kPelvis});
   tag("h_hand", {GeomOwner::kHuman, 0, human::BodyRegion::kHand, human::Joint::kRightWrist});
   tag("h_hand_pad", {GeomOwner::kHuman, 0, human::BodyRegion::kHand, human::Joint::kRightWrist});
@@ -104,11 +108,14 @@ class MinSeparation : public testing::MujocoTest {};
 TEST_F(SeparationMonitorTest, ListsCollidingRobotAndHumanGeomsOnly) {
   auto s = LoadScene();
   const SeparationMonitor monitor = SeparationMonitor::FromModel(s->model);
-  ASSERT_EQ(monitor.robot.size(), 3u);  // box, arm capsule, finger cylinder; not the visual
+  // Box, arm capsule, ellipsoid (as its enclosing sphere), finger cylinder; not the visual.
+  ASSERT_EQ(monitor.robot.size(), 4u);
   EXPECT_EQ(monitor.robot[0].id, s->geom("r_box"));
   EXPECT_EQ(monitor.robot[0].type, ShapeType::kBox);
   EXPECT_EQ(monitor.robot[1].type, ShapeType::kCapsule);
-  EXPECT_EQ(monitor.robot[2].type, ShapeType::kCylinder);
+  EXPECT_EQ(monitor.robot[2].type, ShapeType::kSphere);
+  EXPECT_DOUBLE_EQ(monitor.robot[2].size[0], 0.1);
+  EXPECT_EQ(monitor.robot[3].type, ShapeType::kCylinder);
   ASSERT_EQ(monitor.human.size(), 2u);  // the hand pad and the forearm; not the visual hand
   EXPECT_EQ(monitor.human[0].id, s->geom("h_hand_pad"));
   EXPECT_EQ(monitor.human[0].region, human::BodyRegion::kHand);
@@ -137,6 +144,12 @@ TEST_F(MinSeparation, MatchesHandComputedDistances) {
   sep = min_separation(monitor, s->d());
   EXPECT_NEAR(sep.distance, 0.3 - 0.04 - 0.035, 1e-9);
   EXPECT_EQ(sep.robot_geom, s->geom("r_arm"));
+
+  // Beyond the ellipsoid's long (x) axis: its enclosing sphere is exact in that direction.
+  s->Place(s->hand_mocap, Vec3(-0.8, 0, 0.6));
+  sep = min_separation(monitor, s->d());
+  EXPECT_NEAR(sep.distance, 0.3 - 0.1 - 0.035, 1e-9);
+  EXPECT_EQ(sep.robot_geom, s->geom("r_ell"));
 
   // Penetrating the box's +x face by 1.5 cm.
   s->Place(s->hand_mocap, Vec3(0.12, 0, 0.6));
