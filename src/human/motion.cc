@@ -573,6 +573,23 @@ class PlanBuilder {
     segments_.push_back(std::move(s));
     return segments_.back();
   }
+  // The primitive's main movement of one hand: palm to `palm` with `rotation`, on the profile
+  // set by the `decel` parameter, through the script's via-points and then `extra_via`.
+  Segment& move(const std::string& phase, double duration, Side side, const Vec3& palm,
+                const Quat& rotation, const std::vector<Vec3>& extra_via = {}) {
+    move_hand(side, palm, rotation, swivel());
+    Segment& seg = push(phase, duration);
+    seg.profile.decel = num("decel");
+    seg.via[slot(side)] = via_F();
+    seg.via[slot(side)].insert(seg.via[slot(side)].end(), extra_via.begin(), extra_via.end());
+    return seg;
+  }
+  // The hand opens ("release"), then retracts ("retract"), with the durations of those names.
+  void release_and_retract(Side side) {
+    set_grip(side, 0, "");
+    push("release", num("release"));
+    retract("retract", num("retract"), {side});
+  }
   // A retraction phase: to the hanging arm(s), or staying put when the duration is 0.
   void retract(const std::string& phase, double duration, std::initializer_list<Side> sides) {
     if (duration > 0) {
@@ -652,10 +669,7 @@ void build_reach_like(PlanBuilder& b, bool intrude) {
   b.begin();
   const Vec3 target = b.point_F("target");
   const Vec3 fingers = horizontal_dir(b.shoulder_F(h), target);
-  b.move_hand(h, target, palm_choice(h, b.choice("palm"), fingers), b.swivel());
-  Segment& reach = b.push("reach", b.num("duration"));
-  reach.profile.decel = b.num("decel");
-  reach.via[slot(h)] = b.via_F();
+  b.move("reach", b.num("duration"), h, target, palm_choice(h, b.choice("palm"), fingers));
   if (intrude) {
     b.push("dwell", b.num("dwell"));
     b.retract("retract", b.num("retract"), {h});
@@ -683,10 +697,7 @@ void build_point(PlanBuilder& b) {
   b.move_hand(h, S + (0.5 * ext + k.palm_distance) * dir, rot, b.swivel());
   b.key(h).free_roll = 1;
   b.push("prep", b.num("prep"));
-  b.move_hand(h, S + (ext + k.palm_distance) * dir, rot, b.swivel());
-  Segment& stroke = b.push("stroke", b.num("stroke"));
-  stroke.profile.decel = b.num("decel");
-  stroke.via[slot(h)] = b.via_F();
+  b.move("stroke", b.num("stroke"), h, S + (ext + k.palm_distance) * dir, rot);
   b.push("hold", b.num("hold"), true);
   if (b.num("retract") > 0) b.key(h).free_roll = 0;
   b.retract("retract", b.num("retract"), {h});
@@ -808,16 +819,11 @@ void build_offer(PlanBuilder& b) {
   // The reach ends slightly past the centre (1 cm, or a fifth of the radius), then settles.
   const Vec3 from = b.key(h).palm;
   const Vec3 past = C + std::min(0.01, 0.2 * z.radius) * (C - from).normalized();
-  b.move_hand(h, past, rot, b.swivel());
-  Segment& reach = b.push("reach", b.num("duration"));
-  reach.profile.decel = b.num("decel");
-  reach.via[slot(h)] = b.via_F();
+  b.move("reach", b.num("duration"), h, past, rot);
   b.move_hand(h, C, rot, b.swivel());
   b.push("hold", b.num("settle"));
   b.push("hold_stable", b.num("hold"), true);
-  b.set_grip(h, 0, "");
-  b.push("release", b.num("release"));
-  b.retract("retract", b.num("retract"), {h});
+  b.release_and_retract(h);
 }
 
 void build_receive(PlanBuilder& b) {
@@ -826,10 +832,7 @@ void build_receive(PlanBuilder& b) {
   b.begin();
   const Vec3 C = b.to_F(b.zone().center);
   const Vec3 fingers = horizontal_dir(b.shoulder_F(h), C);
-  b.move_hand(h, C, palm_choice(h, b.choice("palm"), fingers), b.swivel());
-  Segment& reach = b.push("reach", b.num("duration"));
-  reach.profile.decel = b.num("decel");
-  reach.via[slot(h)] = b.via_F();
+  b.move("reach", b.num("duration"), h, C, palm_choice(h, b.choice("palm"), fingers));
   b.push("open", b.num("open"), true);
   b.set_grip(h, 1, b.object());
   b.push("close", b.num("close"));
@@ -853,11 +856,7 @@ void build_pick(PlanBuilder& b) {
   const Vec3 T = b.point_F("target");
   Vec3 approach;
   const Quat rot = grasp_rotation(b, h, T, approach);
-  b.move_hand(h, T, rot, b.swivel());
-  Segment& reach = b.push("reach", b.num("duration"));
-  reach.profile.decel = b.num("decel");
-  reach.via[slot(h)] = b.via_F();
-  reach.via[slot(h)].push_back(T + approach);
+  b.move("reach", b.num("duration"), h, T, rot, {T + approach});
   b.set_grip(h, 1, b.object());
   b.push("grasp", b.num("grasp"));
   b.move_hand(h, T + Vec3(0, 0, b.num("lift_height")), rot, b.swivel());
@@ -871,14 +870,8 @@ void build_place(PlanBuilder& b) {
   const Vec3 T = b.point_F("target");
   Vec3 approach;
   const Quat rot = grasp_rotation(b, h, T, approach);
-  b.move_hand(h, T, rot, b.swivel());
-  Segment& transport = b.push("transport", b.num("duration"));
-  transport.profile.decel = b.num("decel");
-  transport.via[slot(h)] = b.via_F();
-  transport.via[slot(h)].push_back(T + Vec3(0, 0, b.num("approach_height")));
-  b.set_grip(h, 0, "");
-  b.push("release", b.num("release"));
-  b.retract("retract", b.num("retract"), {h});
+  b.move("transport", b.num("duration"), h, T, rot, {T + Vec3(0, 0, b.num("approach_height"))});
+  b.release_and_retract(h);
 }
 
 void build_move_object(PlanBuilder& b) {
@@ -889,11 +882,7 @@ void build_move_object(PlanBuilder& b) {
   const Vec3 lift(0, 0, b.num("lift_height"));
   Vec3 approach;
   const Quat rot_a = grasp_rotation(b, h, A, approach);
-  b.move_hand(h, A, rot_a, b.swivel());
-  Segment& reach = b.push("reach", b.num("duration"));
-  reach.profile.decel = b.num("decel");
-  reach.via[slot(h)] = b.via_F();
-  reach.via[slot(h)].push_back(A + approach);
+  b.move("reach", b.num("duration"), h, A, rot_a, {A + approach});
   b.set_grip(h, 1, b.object());
   b.push("grasp", b.num("grasp"));
   const Quat rot_b = grasp_rotation(b, h, B, approach);
@@ -901,9 +890,7 @@ void build_move_object(PlanBuilder& b) {
   Segment& transport = b.push("transport", b.num("transport"));
   transport.profile.decel = b.num("decel");
   transport.via[slot(h)] = {A + lift, B + lift};
-  b.set_grip(h, 0, "");
-  b.push("release", b.num("release"));
-  b.retract("retract", b.num("retract"), {h});
+  b.release_and_retract(h);
 }
 
 void build_hold_lid(PlanBuilder& b) {
@@ -929,9 +916,7 @@ void build_hold_lid(PlanBuilder& b) {
   b.push("hold", b.num("hold"), true);
   b.move_hand(h, H, grasp, b.swivel());
   b.push("close", b.num("close")).via[slot(h)] = {arc(0.75), arc(0.5), arc(0.25)};
-  b.set_grip(h, 0, "");
-  b.push("release", b.num("release"));
-  b.retract("retract", b.num("retract"), {h});
+  b.release_and_retract(h);
 }
 
 // The hands gripping a plank end: both when grip_width > 0, else the active one.
@@ -995,9 +980,7 @@ void build_release_retract(PlanBuilder& b) {
   const Side h = b.hand();
   b.set_grip(h, 1, b.object());
   b.begin();
-  b.set_grip(h, 0, "");
-  b.push("release", b.num("release"));
-  b.retract("retract", b.num("retract"), {h});
+  b.release_and_retract(h);
 }
 
 }  // namespace

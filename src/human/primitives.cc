@@ -24,14 +24,19 @@ ParamInfo optional_num(std::string_view name, std::string_view unit, double lo, 
   p.has_default = false;
   return p;
 }
-ParamInfo point(std::string_view name, bool required, std::string_view doc) {
+// A non-number parameter.
+ParamInfo of_kind(std::string_view name, ParamKind kind, std::string_view unit, bool required,
+                  std::string_view doc) {
   ParamInfo p;
   p.name = name;
-  p.kind = ParamKind::kPoint;
-  p.unit = "m";
+  p.kind = kind;
+  p.unit = unit;
   p.required = required;
   p.doc = doc;
   return p;
+}
+ParamInfo point(std::string_view name, bool required, std::string_view doc) {
+  return of_kind(name, ParamKind::kPoint, "m", required, doc);
 }
 ParamInfo choice(std::string_view name, std::vector<std::string_view> options,
                  std::string_view def, std::string_view doc) {
@@ -50,30 +55,16 @@ ParamInfo hand() {
   return p;
 }
 ParamInfo zone() {
-  ParamInfo p;
-  p.name = "zone";
-  p.kind = ParamKind::kZone;
-  p.unit = "m";
-  p.required = true;
+  ParamInfo p = of_kind("zone", ParamKind::kZone, "m", true,
+                        "ball the palm centre is brought to (centre in W, radius 0.005-0.5 m)");
   p.min = 0.005;
   p.max = 0.5;
-  p.doc = "ball the palm centre is brought to (centre in W, radius 0.005-0.5 m)";
   return p;
 }
-ParamInfo object(std::string_view doc) {
-  ParamInfo p;
-  p.name = "object";
-  p.kind = ParamKind::kObject;
-  p.doc = doc;
-  return p;
-}
+ParamInfo object(std::string_view doc) { return of_kind("object", ParamKind::kObject, "", false, doc); }
 ParamInfo via() {
-  ParamInfo p;
-  p.name = "via";
-  p.kind = ParamKind::kPoints;
-  p.unit = "m";
-  p.doc = "via-points (W) the palm passes through on the main movement";
-  return p;
+  return of_kind("via", ParamKind::kPoints, "m", false,
+                 "via-points (W) the palm passes through on the main movement");
 }
 ParamInfo onset() { return num("onset", "s", 0, 0, 600, "wait before the first phase"); }
 ParamInfo swivel() {
