@@ -20,7 +20,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kDeg = core::kPi / 180.0;
 constexpr double kLeanReach = 0.93;      // lean once a wrist target is beyond this much reach
-constexpr double kMaxLean = 45 * kDeg;
+constexpr double kMaxLean = 70 * kDeg;
 
 size_t slot(Side side) { return side == Side::kLeft ? 0 : 1; }
 Side side_of(size_t slot_index) { return slot_index == 0 ? Side::kLeft : Side::kRight; }
