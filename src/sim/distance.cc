@@ -97,8 +97,10 @@ Witness segment_segment(const Segment& sa, const Segment& sb) {
       pb = qb;
     }
   };
-  const auto project = [](const Vec3& p, const Vec3& origin, const Vec3& dir, double len_sq) {
-    return len_sq <= kTinySq ? origin : Vec3(origin + clamp01((p - origin).dot(dir) / len_sq) * dir);
+  const auto project = [](const Vec3& p, const Vec3& origin, const Vec3& dir,
+                          double len_sq) -> Vec3 {
+    if (len_sq <= kTinySq) return origin;
+    return Vec3(origin + clamp01((p - origin).dot(dir) / len_sq) * dir);
   };
   try_pair(sa.p0_W, project(sa.p0_W, sb.p0_W, d2, e));
   try_pair(sa.p1_W, project(sa.p1_W, sb.p0_W, d2, e));

@@ -124,6 +124,30 @@ Separation min_separation(const SeparationMonitor& monitor, const mjData& d) {
   return best;
 }
 
+RobotPointMotion robot_point_motion(const mjModel& m, const mjData& d,
+                                    const Separation& separation) {
+  RobotPointMotion motion;
+  if (!separation.valid()) return motion;
+  // 6-D velocity (angular; linear) at the geom centre, world orientation.
+  mjtNum v[6];
+  mj_objectVelocity(&m, &d, mjOBJ_GEOM, separation.robot_geom, v, 0);
+  const core::Vec3 omega(v[0], v[1], v[2]);
+  const core::Vec3 linear(v[3], v[4], v[5]);
+  const core::Vec3 lever = separation.point_robot_W - centre_of(d, separation.robot_geom);
+  motion.velocity_W = linear + omega.cross(lever);
+  // Unit direction robot -> human: the ClosestPoints normal (point_b = point_a + distance * n).
+  core::Vec3 n = separation.point_human_W - separation.point_robot_W;
+  if (std::abs(separation.distance) > 1e-12) {
+    n /= separation.distance;
+  } else {
+    n = centre_of(d, separation.human_geom) - separation.point_robot_W;
+    const double norm = n.norm();
+    n = norm > 0 ? core::Vec3(n / norm) : core::Vec3::Zero();
+  }
+  motion.speed_toward_human = motion.velocity_W.dot(n);
+  return motion;
+}
+
 Separation min_separation(const SeparationMonitor& monitor, const Data& data) {
   return min_separation(monitor, *data.mj);
 }

@@ -66,6 +66,19 @@ Separation min_separation(const SeparationMonitor& monitor, const Data& data);
 Separation min_separation(const model::Model& model, const mjData& d);
 Separation min_separation(const model::Model& model, const Data& data);
 
+// Motion of the robot's closest point (the v_r of ISO/TS 15066 speed-and-separation
+// monitoring, METRICS.md HCS), from the velocities of the last mj_forward / mj_step.
+struct RobotPointMotion {
+  core::Vec3 velocity_W = core::Vec3::Zero();  // m/s, of point_robot_W fixed to its body
+  // Component of velocity_W along the unit direction from the robot to the human (m/s;
+  // positive = approaching). The direction is (point_human - point_robot) / distance, which
+  // also holds in penetration; at distance exactly 0 it is taken toward the human geom's centre.
+  double speed_toward_human = 0;
+};
+// Zero motion when `separation` is not valid.
+RobotPointMotion robot_point_motion(const mjModel& m, const mjData& d,
+                                    const Separation& separation);
+
 // Distance between one robot geom and one human geom of the monitor (indices into
 // monitor.robot / monitor.human), without any pruning. For tests and diagnostics.
 Separation pair_separation(const SeparationMonitor& monitor, const mjData& d, size_t robot_index,

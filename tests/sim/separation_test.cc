@@ -182,6 +182,28 @@ TEST_F(MinSeparation, MatchesHandComputedDistances) {
   EXPECT_EQ(sep.robot_geom, s->geom("r_cyl"));
 }
 
+TEST_F(MinSeparation, RobotPointMotionIsTheClosestPointsVelocityTowardTheHuman) {
+  auto s = LoadScene();
+  const SeparationMonitor monitor = SeparationMonitor::FromModel(s->model);
+  // The hand beside the box's (+x, +y) vertical edge at (0.1, 0.05): direction (1, 1)/sqrt 2.
+  s->d().qvel[0] = 2.0;  // hinge about z: the edge moves at 2 * (-0.05, 0.1, 0) m/s
+  s->Place(s->hand_mocap, Vec3(0.2, 0.15, 0.6));
+  const Separation sep = min_separation(monitor, s->d());
+  ASSERT_EQ(sep.robot_geom, s->geom("r_box"));
+  EXPECT_NEAR(sep.distance, std::sqrt(0.02) - 0.035, 1e-9);
+  const RobotPointMotion motion = robot_point_motion(*s->model.m(), s->d(), sep);
+  EXPECT_NEAR((motion.velocity_W - Vec3(-0.1, 0.2, 0)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(motion.speed_toward_human, (-0.1 + 0.2) / std::sqrt(2.0), 1e-9);
+  // Turning the other way moves the edge away from the hand.
+  s->d().qvel[0] = -2.0;
+  mj_forward(s->model.m(), &s->d());
+  EXPECT_NEAR(robot_point_motion(*s->model.m(), s->d(), min_separation(monitor, s->d()))
+                  .speed_toward_human,
+              -(-0.1 + 0.2) / std::sqrt(2.0), 1e-9);
+  // No robot or human: no motion.
+  EXPECT_EQ(robot_point_motion(*s->model.m(), s->d(), Separation{}).speed_toward_human, 0.0);
+}
+
 TEST_F(MinSeparation, EqualsTheMinimumOverAllPairsOnRandomPlacements) {
   auto s = LoadScene();
   const SeparationMonitor monitor = SeparationMonitor::FromModel(s->model);
