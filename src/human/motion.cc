@@ -264,6 +264,8 @@ BodyKey MotionPlan::interpolate(size_t segment, double tau) const {
   BodyKey out = to;
   out.X_WF.translation = (1 - s) * from.X_WF.translation + s * to.X_WF.translation;
   out.X_WF.rotation = from.X_WF.rotation.slerp(s, to.X_WF.rotation).normalized();
+  out.gaze = (1 - s) * from.gaze + s * to.gaze;
+  out.gaze_weight = (1 - s) * from.gaze_weight + s * to.gaze_weight;
   for (size_t h = 0; h < 2; ++h) {
     const HandKey& a = from.hands[h];
     const HandKey& b = to.hands[h];
@@ -378,6 +380,19 @@ SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t) const 
     }
   }
   for (size_t h = 0; h < 2; ++h) solve_arm(k, pose, side_of(h), targets[h]);
+  // Head: toward the gaze point, yaw at the neck (<= 60 deg), pitch at the head (-30..45 deg).
+  if (key.gaze_weight > 0) {
+    const auto X = forward_kinematics(k, pose);
+    const core::Pose& X_Ws3 = X[static_cast<size_t>(index(Joint::kSpine3))];
+    const Vec3 from = X[static_cast<size_t>(index(Joint::kNeck))].translation;
+    const Vec3 d = X_Ws3.rotation.conjugate() * (key.X_WF * key.gaze - from);
+    const double yaw = std::clamp(std::atan2(d.y(), d.x()), -60 * kDeg, 60 * kDeg);
+    const double pitch = std::clamp(std::atan2(-d.z(), std::hypot(d.x(), d.y())), -30 * kDeg, 45 * kDeg);
+    pose.local[static_cast<size_t>(index(Joint::kNeck))] =
+        core::axis_angle(Vec3::UnitZ(), key.gaze_weight * yaw);
+    pose.local[static_cast<size_t>(index(Joint::kHead))] =
+        core::axis_angle(Vec3::UnitY(), key.gaze_weight * pitch);
+  }
   return pose;
 }
 
@@ -553,6 +568,11 @@ class PlanBuilder {
     const HandKey n = neutral_hand(k_, side);
     move_hand(side, n.palm, n.rotation, n.swivel);
   }
+  // The head turns to a point (F) by the end of the next phase.
+  void look_at(const Vec3& point) {
+    state_.gaze = point;
+    state_.gaze_weight = 1;
+  }
   void set_grip(Side side, double grip, const std::string& holding) {
     key(side).grip = grip;
     key(side).holding = holding;
@@ -578,6 +598,7 @@ class PlanBuilder {
   Segment& move(const std::string& phase, double duration, Side side, const Vec3& palm,
                 const Quat& rotation, const std::vector<Vec3>& extra_via = {}) {
     move_hand(side, palm, rotation, swivel());
+    look_at(palm);
     Segment& seg = push(phase, duration);
     seg.profile.decel = num("decel");
     seg.via[slot(side)] = via_F();
@@ -594,6 +615,7 @@ class PlanBuilder {
   void retract(const std::string& phase, double duration, std::initializer_list<Side> sides) {
     if (duration > 0) {
       for (Side s : sides) rest_hand(s);
+      state_.gaze_weight = 0;
     }
     push(phase, duration);
   }
@@ -696,6 +718,7 @@ void build_point(PlanBuilder& b) {
   // Preparation: wrist onto the ray at half extension (elbow flexed); stroke: out along it.
   b.move_hand(h, S + (0.5 * ext + k.palm_distance) * dir, rot, b.swivel());
   b.key(h).free_roll = 1;
+  b.look_at(b.point_F("target"));
   b.push("prep", b.num("prep"));
   b.move("stroke", b.num("stroke"), h, S + (ext + k.palm_distance) * dir, rot);
   b.push("hold", b.num("hold"), true);
@@ -907,6 +930,7 @@ void build_hold_lid(PlanBuilder& b) {
   // The hand turns with the lid by half the lid's angle (the grip rolls on the handle).
   const auto hand_at = [&](double f) { return Quat(core::axis_angle(axis, 0.5 * f * open) * grasp); };
   b.move_hand(h, H, grasp, b.swivel());
+  b.look_at(H);
   Segment& reach = b.push("reach", b.num("duration"));
   reach.via[slot(h)] = {H + Vec3(0, 0, 0.08)};
   b.set_grip(h, 1, b.object());
@@ -943,6 +967,7 @@ void build_lift(PlanBuilder& b) {
   b.begin();
   const Vec3 G = b.point_F("target");
   grip_plank(b, G);
+  b.look_at(G);
   b.push("reach", b.num("duration"));
   for (Side side : plank_hands(b)) b.set_grip(side, 1, b.object());
   b.push("grasp", b.num("grasp"));

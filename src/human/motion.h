@@ -90,6 +90,8 @@ struct HandKey {
 struct BodyKey {
   core::Pose X_WF;                   // stand frame: yaw about +z, origin on the floor
   std::array<HandKey, 2> hands;      // [0] left, [1] right
+  core::Vec3 gaze = core::Vec3::Zero();  // point the head turns to, in F
+  double gaze_weight = 0;            // 0 = head straight, 1 = looking at `gaze` (within limits)
 };
 
 // An oscillation added to one hand during a segment: the wrist is displaced by

@@ -209,6 +209,23 @@ TEST(MotionTest, PointingRayPassesThroughTheTargetDuringTheHold) {
   }
 }
 
+TEST(MotionTest, TheHeadLooksAtThePointedTarget) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  const Vec3 target(0.9, 0.3, 1.0);
+  PrimitiveParams p = example("point");
+  p.points["target"] = target;
+  const MotionPlan plan = plan_motion(k, standing(k), p);
+  const double t = plan.timeline({})[2].start + 0.1;  // in the hold
+  const auto X = forward_kinematics(k, plan.pose_at(t));
+  const core::Pose& head = X[index(Joint::kHead)];
+  const Vec3 look = head.rotation * Vec3::UnitX();
+  const Vec3 want = (target - X[index(Joint::kNeck)].translation).normalized();
+  EXPECT_GT(look.dot(want), std::cos(5 * core::kPi / 180));
+  // After the retraction the head is straight again.
+  const auto end = forward_kinematics(k, plan.pose_at(plan.nominal_duration(), {{"hold", 0}}));
+  EXPECT_LT(end[index(Joint::kHead)].rotation.angularDistance(end[index(Joint::kSpine3)].rotation), 1e-9);
+}
+
 TEST(MotionTest, OfferHoldsStableInTheZoneAndLabelsTheHeldObject) {
   const Skeleton k = Skeleton::FromHeight(1.68);
   PrimitiveParams p = example("offer", "left");
