@@ -48,7 +48,7 @@ void find_contacts(const model::Model& model, const mjModel& m, const mjData& d,
       c.normal_W = -c.normal_W;
     }
     c.normal_force = std::max(0.0, force[0]);
-    c.depth = con.dist;
+    c.distance = con.dist;
     c.position_W = core::Vec3(con.pos[0], con.pos[1], con.pos[2]);
     out->push_back(c);
   }

@@ -42,7 +42,7 @@ struct Contact {
   ContactParty a;
   ContactParty b;
   double normal_force = 0;  // N, >= 0 (the normal component of mj_contactForce)
-  double depth = 0;         // m, mjContact.dist: negative = penetration
+  double distance = 0;      // m, mjContact.dist: signed, negative = penetration depth
   core::Vec3 position_W = core::Vec3::Zero();  // contact point (midway between the surfaces)
   core::Vec3 normal_W = core::Vec3::Zero();    // unit normal, pointing from a toward b
 
