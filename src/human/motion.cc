@@ -51,12 +51,17 @@ const ParamInfo& expect_param(const PrimitiveInfo& prim, const std::string& name
   return *info;
 }
 
-// Stand frame of a pose: yaw of the pelvis about +z, origin on the floor under it.
-core::Pose stand_frame(const SkeletonPose& pose) {
+// Stand frame of a pose: yaw of the pelvis about +z, origin on the floor under the midpoint of
+// the hip joints (which a torso lean does not move).
+core::Pose stand_frame(const Skeleton& k, const SkeletonPose& pose) {
   const Vec3 fwd = pose.X_WP.rotation * Vec3::UnitX();
   core::Pose X_WF;
   X_WF.rotation = core::axis_angle(Vec3::UnitZ(), std::atan2(fwd.y(), fwd.x()));
-  X_WF.translation = Vec3(pose.X_WP.translation.x(), pose.X_WP.translation.y(), 0);
+  const Vec3 hip_mid = 0.5 * (k.offset[static_cast<size_t>(index(Joint::kLeftHip))] +
+                              k.offset[static_cast<size_t>(index(Joint::kRightHip))]);
+  const Vec3 rest_mid = X_WF.rotation * Vec3(hip_mid.x(), hip_mid.y(), 0);
+  const Vec3 mid = pose.X_WP * hip_mid - rest_mid;
+  X_WF.translation = Vec3(mid.x(), mid.y(), 0);
   return X_WF;
 }
 
@@ -158,7 +163,7 @@ HandKey neutral_hand(const Skeleton& k, Side side) {
 
 BodyKey body_key(const Skeleton& k, const SkeletonPose& pose) {
   BodyKey key;
-  key.X_WF = stand_frame(pose);
+  key.X_WF = stand_frame(k, pose);
   const core::Pose X_FW = key.X_WF.inverse();
   const auto X = forward_kinematics(k, pose);
   const Quat& R_torso = X[static_cast<size_t>(index(Joint::kSpine3))].rotation;

@@ -170,8 +170,8 @@ class MotionPlan {
   std::array<std::array<double, 6>, 2> tremor_phase_{};
 };
 
-// The body key of a pose (stand frame from the pelvis, palms and hand rotations from forward
-// kinematics, swivels estimated, grips open).
+// The body key of a pose (stand frame: pelvis yaw, origin under the hip joints; palms and hand
+// rotations from forward kinematics, swivels estimated, grips open, head straight).
 BodyKey body_key(const Skeleton& skeleton, const SkeletonPose& pose);
 
 // The rest hand of a side: arm hanging with a slight elbow bend, palm facing the thigh (F).

@@ -326,6 +326,28 @@ TEST(MotionTest, HandsReachTheirTargets) {
     const Vec3 palm = hand_point(k, plan.pose_at(main.end, {{"hold", 0}}), Side::kRight, HandPoint::kPalm);
     EXPECT_LT((palm - p.points.at("target")).norm(), 1e-6);
   }
+  // A via-point bends the path through it.
+  PrimitiveParams via = example("reach");
+  via.paths["via"] = {Vec3(1.1, -0.05, 1.15)};
+  const LabelledClip curved = generate_clip(k, standing(k), via, 100);
+  double closest = 1;
+  for (size_t f = 0; f < curved.clip.frames.size(); ++f) {
+    closest = std::min(closest, (palm_of(curved.clip, f, Side::kRight) - via.paths["via"][0]).norm());
+  }
+  EXPECT_LT(closest, 0.01);
+  // The body key of a generated pose gives back the plan's hand targets.
+  // (Start with both arms at the plan's hanging pose: the rest pose's straight arms are
+  // bent to 99.5 % of their reach by the IK.)
+  PrimitiveParams crossed = example("cancel");
+  const MotionPlan settle = plan_motion(k, standing(k), crossed);
+  const MotionPlan reach = plan_motion(k, settle.pose_at(settle.nominal_duration()), example("reach"));
+  for (const double t : {0.2, 0.5, 0.8}) {
+    const BodyKey planned = reach.key_at(t);
+    const BodyKey measured = body_key(k, reach.pose_at(t));
+    // The reaching (right) hand; the hanging left one follows its shoulder when the torso leans.
+    EXPECT_LT((planned.hands[1].palm - measured.hands[1].palm).norm(), 1e-6) << t;
+    EXPECT_NEAR(planned.hands[1].swivel, measured.hands[1].swivel, 1e-6) << t;
+  }
   // A lid handle follows the hinge arc: at the end of "open" it is open_deg up.
   const PrimitiveParams lid = example("hold_lid");
   const MotionPlan plan = plan_motion(k, standing(k), lid);
