@@ -22,8 +22,10 @@
 #include <string_view>
 #include <vector>
 
+#include "model/model.h"
 #include "render/gl_context.h"
 #include "render/image.h"
+#include "sim/data.h"
 
 namespace hribench::render {
 
@@ -64,6 +66,10 @@ class Renderer {
   // leaves `out` 0x0) for the none back end. `d` is not modified except mjv_updateScene's
   // bookkeeping of d->warning (never triggered: the scene has room for every geom).
   bool render(const mjModel& m, const mjData& d, int camera_id, Image& out);
+  // The same for a built Model and its simulation Data (camera: e.g. model.agentview_camera).
+  bool render(const model::Model& model, const sim::Data& data, int camera_id, Image& out) {
+    return render(*model.m(), *data.mj, camera_id, out);
+  }
   // Same with any MuJoCo camera (e.g. a free camera placed for a documentation picture).
   bool render(const mjModel& m, const mjData& d, const mjvCamera& camera, Image& out);
   // Segmentation: each pixel's mjModel geom id, -1 for background and non-geom objects.

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include "core/errors.h"
 #include "model/model.h"
@@ -240,6 +241,26 @@ TEST_F(DefaultSceneTest, AgentviewShowsRobotHumanTableAndObjects) {
     seen[static_cast<size_t>(key)] = true;
   }
   EXPECT_GT(distinct, 20);
+}
+
+TEST_F(DefaultSceneTest, ThreadsRenderWithTheirOwnRenderers) {
+  // One Renderer per thread on a shared Model (DESIGN.md §8): same state, same pixels.
+  const model::Model model = model::build(model::SceneSpec::Default());
+  sim::Data data = sim::make_data(model);
+  Watch(data.mj.get());
+  Image reference;
+  make_renderer(Backend::kOsmesa, *model.m(), 48, 32)->render(model, data, model.agentview_camera,
+                                                              reference);
+  std::vector<Image> images(2);
+  std::vector<std::thread> threads;
+  for (size_t t = 0; t < images.size(); ++t) {
+    threads.emplace_back([&, t] {
+      auto renderer = make_renderer(Backend::kOsmesa, *model.m(), 48, 32);
+      for (int i = 0; i < 3; ++i) renderer->render(model, data, model.agentview_camera, images[t]);
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  for (const Image& image : images) EXPECT_EQ(image.rgb, reference.rgb);
 }
 
 TEST_F(DefaultSceneTest, WristCameraSeesTheFingers) {
