@@ -1,0 +1,302 @@
+#include "eval/runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <deque>
+#include <fmt/format.h>
+#include <map>
+
+#include <mujoco/mujoco.h>
+
+#include "core/errors.h"
+#include "sim/contact.h"
+#include "sim/control.h"
+#include "sim/separation.h"
+
+namespace hribench::eval {
+
+Latency parse_latency(std::string_view text) {
+  if (text == "none") return {LatencyMode::kNone, 0};
+  if (text == "measured") return {LatencyMode::kMeasured, 0};
+  if (text.substr(0, 6) == "fixed:") {
+    const std::string ms(text.substr(6));
+    char* end = nullptr;
+    const double value = std::strtod(ms.c_str(), &end);
+    if (!ms.empty() && end == ms.c_str() + ms.size() && std::isfinite(value) && value >= 0) {
+      return {LatencyMode::kFixed, value / 1000.0};
+    }
+  }
+  throw core::InputError("--latency", "none, fixed:MS (milliseconds >= 0) or measured",
+                         "'" + std::string(text) + "'");
+}
+
+std::string to_string(const Latency& latency) {
+  switch (latency.mode) {
+    case LatencyMode::kNone:
+      return "none";
+    case LatencyMode::kFixed:
+      return fmt::format("fixed:{}", latency.fixed_seconds * 1000.0);
+    case LatencyMode::kMeasured:
+      return "measured";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// Containers and placement fixtures count as environment for collisions (CFR); the things a
+// robot manipulates count as objects.
+bool is_fixture(model::ObjectKind kind) {
+  return kind == model::ObjectKind::kBin || kind == model::ObjectKind::kBox ||
+         kind == model::ObjectKind::kTray || kind == model::ObjectKind::kPlate;
+}
+
+// The robot's contacts, one per (robot part, other) pair with the forces summed.
+std::vector<Contact> robot_contacts(const model::Model& model, const std::vector<sim::Contact>& all) {
+  std::map<std::pair<std::string, std::string>, Contact> pairs;
+  for (const sim::Contact& c : all) {
+    if (!c.a.is_robot() || c.b.is_robot()) continue;  // robot vs something else only
+    Contact out;
+    out.robot_part = sim::party_name(model, c.a);
+    out.robot_finger = c.a.owner == model::GeomOwner::kRobotFinger;
+    switch (c.b.owner) {
+      case model::GeomOwner::kHuman:
+        out.other_kind = ContactOther::kHuman;
+        out.other = std::string(model.human_capsules[static_cast<size_t>(c.b.index)].name);
+        out.region = c.b.region;
+        break;
+      case model::GeomOwner::kObject: {
+        const model::ObjectInfo& object = model.objects[static_cast<size_t>(c.b.index)];
+        out.other_kind = is_fixture(object.kind) ? ContactOther::kEnvironment : ContactOther::kObject;
+        out.other = object.name;
+        break;
+      }
+      default:
+        out.other_kind = ContactOther::kEnvironment;
+        out.other = sim::party_name(model, c.b);
+        break;
+    }
+    out.normal_force = c.normal_force;
+    const auto key = std::make_pair(out.robot_part, out.other);
+    auto [it, inserted] = pairs.emplace(key, out);
+    if (!inserted) it->second.normal_force += c.normal_force;
+  }
+  std::vector<Contact> contacts;
+  for (auto& [key, contact] : pairs) contacts.push_back(std::move(contact));
+  return contacts;
+}
+
+// Everything one episode keeps between control steps (allocated once).
+struct Episode {
+  const model::Model& model;
+  sim::Data& data;
+  sim::SeparationMonitor monitor;
+  std::vector<sim::Contact> contacts;
+  std::vector<mjtNum> jacp;
+};
+
+core::Pose body_pose(const mjData& d, int body) {
+  core::Pose pose;
+  pose.translation = core::Vec3(d.xpos[3 * body], d.xpos[3 * body + 1], d.xpos[3 * body + 2]);
+  pose.rotation = core::quat_from_wxyz(d.xquat + 4 * body);
+  return pose;
+}
+
+StepRecord record_step(Episode& e) {
+  const model::Model& model = e.model;
+  sim::Data& data = e.data;
+  const mjModel& m = *model.m();
+  const mjData& d = *data.mj;
+  StepRecord s;
+  s.time = data.time();
+  const sim::ArmVector q = sim::arm_joint_positions(model, data);
+  s.joint_pos.assign(q.begin(), q.end());
+  s.X_WE = sim::tcp_pose(model, data);
+  s.gripper_width = sim::gripper_width(model, data);
+  if (model.has_human) {
+    for (int j = 0; j < human::kNumJoints; ++j) s.human_joints_W[static_cast<size_t>(j)] = data.X_WJ[static_cast<size_t>(j)].translation;
+  }
+  for (const model::ObjectInfo& object : model.objects) s.object_poses.push_back(body_pose(d, object.body));
+  // d(t) and the velocity of the robot's closest point.
+  const sim::Separation sep = sim::min_separation(e.monitor, data);
+  s.separation = sep.distance;
+  if (sep.valid()) {
+    const int body = m.geom_bodyid[sep.robot_geom];
+    mj_jac(&m, &d, e.jacp.data(), nullptr, sep.point_robot_W.data(), body);
+    core::Vec3 v = core::Vec3::Zero();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < m.nv; ++c) v[r] += e.jacp[static_cast<size_t>(r * m.nv + c)] * d.qvel[c];
+    }
+    const core::Vec3 toward = sep.point_human_W - sep.point_robot_W;
+    const double n = toward.norm();
+    s.approach_speed = n > 1e-12 ? v.dot(toward / n) : 0.0;
+    s.closest_point_speed = v.norm();
+  }
+  sim::find_contacts(model, data, &e.contacts);
+  s.contacts = robot_contacts(model, e.contacts);
+  return s;
+}
+
+policy::Observation observe(const Episode& e, const policy::PolicySpec& spec,
+                            const std::string& instruction, const StepRecord& s) {
+  policy::Observation obs;
+  obs.time = s.time;
+  obs.instruction = instruction;
+  const sim::ArmVector qd = sim::arm_joint_velocities(e.model, e.data);
+  std::copy_n(s.joint_pos.begin(), policy::kArmJoints, obs.proprio.joint_pos.begin());
+  std::copy(qd.begin(), qd.end(), obs.proprio.joint_vel.begin());
+  obs.proprio.gripper_width = s.gripper_width;
+  obs.proprio.X_WT = s.X_WE;
+  if (spec.state_track) {
+    policy::StateObservation state;
+    state.human_joints_W = s.human_joints_W;
+    for (size_t i = 0; i < e.model.objects.size(); ++i) {
+      state.objects.push_back({e.model.objects[i].name, s.object_poses[i]});
+    }
+    std::sort(state.objects.begin(), state.objects.end(),
+              [](const policy::ObjectPose& a, const policy::ObjectPose& b) { return a.name < b.name; });
+    obs.state = std::move(state);
+  }
+  return obs;
+}
+
+void apply_action(const model::Model& model, sim::Data& data, policy::ActionSpace space,
+                  const policy::Action& a) {
+  if (space == policy::ActionSpace::kEeDelta) {
+    sim::EeDelta delta;
+    delta.translation = core::Vec3(a[0], a[1], a[2]);
+    delta.rotation = core::Vec3(a[3], a[4], a[5]);
+    sim::apply_ee_delta(model, data, delta);
+  } else {
+    sim::ArmVector q{};
+    std::copy_n(a.begin(), model::kArmDof, q.begin());
+    sim::set_joint_targets(model, data, q);
+  }
+  sim::set_gripper_width(model, data, a.back() * model::kGripperMaxWidth);
+}
+
+// True once the "success" series (if any) has held for `hold` seconds up to the last step.
+bool success_held(const EpisodeLog& log, double hold, double eps) {
+  const std::optional<size_t> index = log.predicate_index("success");
+  if (!index || log.steps.empty() || !log.steps.back().predicates[*index]) return false;
+  size_t first = log.steps.size() - 1;
+  while (first > 0 && log.steps[first - 1].predicates[*index]) --first;
+  return log.steps.back().time - log.steps[first].time >= hold - eps;
+}
+
+}  // namespace
+
+EpisodeLog run_episode(const model::Model& model, sim::Data& data, policy::Policy& policy,
+                       ScenarioDriver& driver, const EpisodeSetup& setup,
+                       const RunOptions& options) {
+  const double physics_per_control = options.control_dt / model::kTimestep;
+  const int substeps = static_cast<int>(std::lround(physics_per_control));
+  if (substeps < 1 || std::abs(physics_per_control - substeps) > 1e-9) {
+    throw core::InputError("control_dt", "a whole number of 2 ms physics steps",
+                           fmt::format("{} s", options.control_dt));
+  }
+  if (!(options.horizon > 0)) {
+    throw core::InputError("horizon", "a positive number of seconds", fmt::format("{}", options.horizon));
+  }
+  const policy::PolicySpec spec = policy.spec();
+  if (!spec.cameras.empty()) {
+    throw core::InputError("policy " + setup.policy, "a policy without camera observations (the "
+                           "runner does not render yet)", fmt::format("{} cameras", spec.cameras.size()));
+  }
+  const double eps = options.constants.time_epsilon;
+
+  EpisodeLog log;
+  log.task = setup.task;
+  log.role = setup.role;
+  log.spec_hash = setup.spec_hash;
+  log.seed = setup.seed;
+  log.policy = setup.policy;
+  log.horizon = options.horizon;
+  log.control_dt = options.control_dt;
+  for (const model::ObjectInfo& object : model.objects) log.object_names.push_back(object.name);
+  log.predicate_names = driver.predicate_names();
+
+  sim::reset(model, data);
+  driver.reset(model, data);
+  sim::forward(model, data);
+  Episode e{model, data, sim::SeparationMonitor::FromModel(model), {},
+            std::vector<mjtNum>(static_cast<size_t>(3 * model.m()->nv))};
+  // Ends the episode with a status other than ok.
+  const auto end_with = [&](core::EpisodeStatus status, std::string reason) {
+    log.status = status;
+    log.status_reason = std::move(reason);
+  };
+  // Records the current state as a step.
+  const auto record = [&] {
+    StepRecord s = record_step(e);
+    driver.observe(model, data, s.predicates, log.events);
+    log.steps.push_back(std::move(s));
+  };
+
+  policy::EpisodeInfo info{setup.task, setup.instruction, setup.seed, options.horizon,
+                           options.control_dt};
+  try {
+    policy.reset(info);
+  } catch (const std::exception& ex) {
+    record();
+    end_with(core::EpisodeStatus::kPolicyError, std::string("reset: ") + ex.what());
+    return log;
+  }
+  record();
+
+  std::deque<policy::Action> queue;   // actions to execute, one per control step
+  std::vector<policy::Action> pending;  // a chunk that arrives when thinking ends
+  int thinking = 0;                      // control steps left until `pending` arrives
+  const int steps = static_cast<int>(std::floor(options.horizon / options.control_dt + 1e-9));
+  for (int k = 0; k < steps; ++k) {
+    // Ask the policy when nothing is queued or on the way.
+    if (queue.empty() && thinking == 0) {
+      const policy::Observation obs = observe(e, spec, setup.instruction, log.steps.back());
+      policy::ActionChunk chunk;
+      const auto start = std::chrono::steady_clock::now();
+      try {
+        chunk = policy.act(obs);
+        policy::validate_chunk(chunk, spec.action_space, options.limits);
+      } catch (const std::exception& ex) {
+        end_with(core::EpisodeStatus::kPolicyError, ex.what());
+        return log;
+      }
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double delay = options.latency.mode == LatencyMode::kNone    ? 0.0
+                           : options.latency.mode == LatencyMode::kFixed ? options.latency.fixed_seconds
+                                                                         : wall;
+      const size_t take = std::min(chunk.actions.size(), static_cast<size_t>(std::max(1, spec.replan_every)));
+      chunk.actions.resize(take);
+      thinking = static_cast<int>(std::ceil(delay / options.control_dt - 1e-9));
+      if (thinking == 0) {
+        queue.assign(chunk.actions.begin(), chunk.actions.end());
+      } else {
+        pending = std::move(chunk.actions);
+      }
+    }
+    // Thinking: the previous command stays; otherwise execute the next action.
+    if (thinking > 0) {
+      if (--thinking == 0) queue.assign(pending.begin(), pending.end());
+    } else {
+      apply_action(model, data, spec.action_space, queue.front());
+      queue.pop_front();
+    }
+    for (int i = 0; i < substeps; ++i) {
+      driver.drive(model, data);
+      sim::step(model, data);
+    }
+    sim::forward(model, data);
+    if (sim::warning_count(data) > 0) {
+      record();
+      end_with(core::EpisodeStatus::kInvalid, "MuJoCo warning: " + sim::warning_summary(data));
+      return log;
+    }
+    record();
+    if (options.stop_on_success && success_held(log, options.constants.success_hold, eps)) break;
+  }
+  return log;
+}
+
+}  // namespace hribench::eval

@@ -1,0 +1,191 @@
+#include "eval/runner.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "core/errors.h"
+#include "eval/metrics.h"
+#include "model/model.h"
+#include "policy/builtin.h"
+#include "sim/control.h"
+#include "sim/data.h"
+#include "support/mujoco_fixture.h"
+
+namespace hribench::eval {
+namespace {
+
+TEST(Latency, ParsesTheThreeModes) {
+  EXPECT_EQ(parse_latency("none").mode, LatencyMode::kNone);
+  EXPECT_EQ(parse_latency("measured").mode, LatencyMode::kMeasured);
+  const Latency fixed = parse_latency("fixed:200");
+  EXPECT_EQ(fixed.mode, LatencyMode::kFixed);
+  EXPECT_DOUBLE_EQ(fixed.fixed_seconds, 0.2);
+  EXPECT_EQ(to_string(fixed), "fixed:200");
+  for (const char* bad : {"fixed:", "fixed:-5", "fixed:abc", "slow", ""}) {
+    try {
+      parse_latency(bad);
+      FAIL() << bad;
+    } catch (const core::InputError& e) {
+      EXPECT_EQ(std::string(e.what()),
+                std::string("--latency: expected none, fixed:MS (milliseconds >= 0) or measured, "
+                            "got '") + bad + "'");
+    }
+  }
+}
+
+// The human steps 0.2 m to the side at `shift_time` (the cue) and the driver logs the event.
+class SideStepDriver : public ScenarioDriver {
+ public:
+  explicit SideStepDriver(double shift_time) : shift_time_(shift_time) {}
+  std::vector<std::string> predicate_names() const override { return {"success"}; }
+  void reset(const model::Model& model, sim::Data&) override {
+    start_ = model.human_start;
+    logged_ = false;
+  }
+  void drive(const model::Model& model, sim::Data& data) override {
+    if (data.time() + 1e-9 < shift_time_) return;
+    human::SkeletonPose pose = start_;
+    pose.X_WP.translation.y() += 0.2;
+    sim::set_human_pose(model, data, pose);
+  }
+  void observe(const model::Model&, const sim::Data& data, std::vector<uint8_t>& predicates,
+               std::vector<Event>& events) override {
+    predicates.assign(1, 0);
+    if (!logged_ && data.time() + 1e-9 >= shift_time_) {
+      events.push_back({shift_time_, EventKind::kPhase, Actor::kHuman, "step.end", ""});
+      logged_ = true;
+    }
+  }
+
+ private:
+  double shift_time_;
+  human::SkeletonPose start_;
+  bool logged_ = false;
+};
+
+// Reacts to the human's pelvis leaving y = 0: moves the TCP along +y at 0.2 m/s.
+class FollowPolicy : public policy::Policy {
+ public:
+  policy::PolicySpec spec() const override {
+    return {{}, true, policy::ActionSpace::kEeDelta, 1};
+  }
+  void reset(const policy::EpisodeInfo&) override {}
+  policy::ActionChunk act(const policy::Observation& obs) override {
+    const bool go = obs.state->human_joints_W[0].y() > 0.1;
+    return {policy::ActionSpace::kEeDelta, {{0, go ? 0.01 : 0.0, 0, 0, 0, 0, 1.0}}};
+  }
+};
+
+// Returns NaN from the third query on.
+class BrokenPolicy : public policy::NoopPolicy {
+ public:
+  policy::ActionChunk act(const policy::Observation& obs) override {
+    policy::ActionChunk chunk = NoopPolicy::act(obs);
+    if (++calls_ >= 3) chunk.actions[0][2] = std::numeric_limits<double>::quiet_NaN();
+    return chunk;
+  }
+
+ private:
+  int calls_ = 0;
+};
+
+class RunnerTest : public testing::MujocoTest {
+ protected:
+  void SetUp() override {
+    MujocoTest::SetUp();
+    model_ = std::make_unique<model::Model>(model::build(model::SceneSpec::Default()));
+    data_ = std::make_unique<sim::Data>(sim::make_data(*model_));
+    Watch(data_->mj.get());
+  }
+  EpisodeSetup setup(const std::string& policy) const {
+    return {"test_task", "instructor", "abc", 3, "stay", policy};
+  }
+  std::unique_ptr<model::Model> model_;
+  std::unique_ptr<sim::Data> data_;
+};
+
+TEST_F(RunnerTest, NoopEpisodeIsCompleteStillAndDeterministic) {
+  policy::NoopPolicy noop;
+  StandingHumanDriver driver;
+  RunOptions options;
+  options.horizon = 1.0;
+  const EpisodeLog log = run_episode(*model_, *data_, noop, driver, setup("noop"), options);
+  EXPECT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
+  ASSERT_EQ(log.steps.size(), 21u);  // t = 0, 0.05, ..., 1.0
+  EXPECT_NEAR(log.steps.back().time, 1.0, 1e-9);
+  EXPECT_NO_THROW(check_episode_log(log, "log"));
+  EXPECT_EQ(log.object_names.size(), model_->objects.size());
+  EXPECT_EQ(log.steps[0].joint_pos.size(), 7u);
+  // The human stands across the table: finite separation, no contact.
+  EXPECT_TRUE(std::isfinite(log.steps.back().separation));
+  EXPECT_GT(log.steps.back().separation, 0.3);
+  // The held robot barely moves.
+  const double drift = (log.steps.back().X_WE.translation - log.steps.front().X_WE.translation).norm();
+  EXPECT_LT(drift, 0.005);
+  const EpisodeMetrics m = compute_metrics(ScenarioContract{}, log);
+  EXPECT_GT(*m.r_idle, 0.9);
+  // Same spec, same actions: the same log, bit for bit; and it survives a save/reload.
+  const EpisodeLog again = run_episode(*model_, *data_, noop, driver, setup("noop"), options);
+  EXPECT_TRUE(identical(log, again));
+  EXPECT_TRUE(identical(decode_episode_log(encode_episode_log(log), "m"), log));
+}
+
+TEST_F(RunnerTest, BadActionEndsTheEpisodeAsPolicyError) {
+  BrokenPolicy broken;
+  StandingHumanDriver driver;
+  RunOptions options;
+  options.horizon = 2.0;
+  const EpisodeLog log = run_episode(*model_, *data_, broken, driver, setup("broken"), options);
+  EXPECT_EQ(log.status, core::EpisodeStatus::kPolicyError);
+  EXPECT_EQ(log.status_reason, "non_finite: action 0 value 2: nan");
+  EXPECT_EQ(log.steps.size(), 3u);  // t = 0, 0.05, 0.1; the third query failed
+  const EpisodeMetrics m = compute_metrics(ScenarioContract{}, log);
+  EXPECT_EQ(*m.primary_label, FailureLabel::kPolicyError);
+}
+
+TEST_F(RunnerTest, CamerasAreRefusedUntilRenderingIsWired) {
+  class CameraPolicy : public policy::NoopPolicy {
+   public:
+    policy::PolicySpec spec() const override {
+      policy::PolicySpec s = NoopPolicy::spec();
+      s.cameras.push_back({"agentview", 224, 224});
+      return s;
+    }
+  } camera;
+  StandingHumanDriver driver;
+  EXPECT_THROW(run_episode(*model_, *data_, camera, driver, setup("cam"), RunOptions{}),
+               core::InputError);
+}
+
+TEST_F(RunnerTest, FixedLatencyShiftsTheResponseByItsDuration) {
+  // The human side-steps just before the 1.0 s query (the queries of a 200 ms policy come
+  // every 0.25 s, so 1.0 s is a query time in both modes).
+  const double shift = 0.975;
+  ScenarioContract contract;
+  sim::reset(*model_, *data_);
+  const core::Vec3 goal = sim::tcp_pose(*model_, *data_).translation + core::Vec3(0, 1.0, 0);
+  contract.cues.push_back({"follow", "step.end", CueKind::kGo, 1.0, goal});
+  const auto response = [&](const std::string& latency) {
+    FollowPolicy follow;
+    SideStepDriver driver(shift);
+    RunOptions options;
+    options.horizon = 2.0;
+    options.latency = parse_latency(latency);
+    const EpisodeLog log = run_episode(*model_, *data_, follow, driver, setup("follow"), options);
+    EXPECT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
+    const EpisodeMetrics m = compute_metrics(contract, log);
+    EXPECT_TRUE(m.cues.at(0).responded) << latency;
+    return *m.response_latency;
+  };
+  const double none = response("none");
+  const double fixed = response("fixed:200");
+  RecordProperty("rsp_none", std::to_string(none));
+  RecordProperty("rsp_fixed200", std::to_string(fixed));
+  EXPECT_LT(none, 0.1);
+  EXPECT_NEAR(fixed - none, 0.2, 0.026);
+}
+
+}  // namespace
+}  // namespace hribench::eval
