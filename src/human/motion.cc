@@ -195,7 +195,8 @@ MotionPlan::MotionPlan(Skeleton skeleton, BodyKey start, std::vector<Segment> se
       start_(std::move(start)),
       segments_(std::move(segments)),
       active_hand_(active_hand),
-      tremor_(tremor) {
+      tremor_(tremor),
+      seed_(seed) {
   core::Rng rng = core::Rng(seed).split("tremor");
   for (auto& hand : tremor_freq_) {
     for (double& f : hand) f = rng.uniform(8, 12);
@@ -275,7 +276,9 @@ BodyKey MotionPlan::interpolate(size_t segment, double tau) const {
     const HandKey& a = from.hands[h];
     const HandKey& b = to.hands[h];
     HandKey& o = out.hands[h];
-    if (seg.via[h].empty()) {
+    if (seg.palm_path[h]) {
+      o.palm = seg.palm_path[h]->position(tau * seg.duration);
+    } else if (seg.via[h].empty()) {
       o.palm = (1 - s) * a.palm + s * b.palm;
     } else {
       std::vector<Vec3> pts{a.palm};
@@ -456,6 +459,45 @@ LabelledClip MotionPlan::to_clip(double fps, const Signals& signals) const {
     out.labels.push_back(std::move(label));
   }
   return out;
+}
+
+MotionPlan MotionPlan::retarget(double t, const Signals& signals, Side side, const Vec3& palm,
+                                double remaining) const {
+  HRIB_CHECK(remaining > 0) << "remaining=" << remaining;
+  HRIB_CHECK(!segments_.empty());
+  const auto times = resolve(signals, false);
+  const size_t h = slot(side);
+  const auto palm_at = [&](double tt) {
+    size_t seg = 0;
+    double tau = 1;
+    locate(std::max(0.0, tt), times, seg, tau);
+    return interpolate(seg, tau).hands[h].palm;
+  };
+  size_t i = 0;
+  double tau = 1;
+  locate(t, times, i, tau);
+  const BodyKey now = interpolate(i, tau);
+  // Current palm velocity and acceleration (F) by central differences.
+  constexpr double dt = 1e-3;
+  const Vec3 p0 = now.hands[h].palm;
+  const Vec3 v0 = (palm_at(t + dt) - palm_at(t - dt)) / (2 * dt);
+  const Vec3 a0 = (palm_at(t + dt) - 2 * p0 + palm_at(t - dt)) / (dt * dt);
+  const Vec3 target = now.X_WF.inverse() * palm;
+  const Vec3 old_target = segments_[i].end.hands[h].palm;
+
+  std::vector<Segment> segments;
+  Segment first = segments_[i];
+  first.duration = remaining;
+  first.end.hands[h].palm = target;
+  first.via[h].clear();
+  first.palm_path[h] = Quintic::Between(p0, v0, a0, target, Vec3::Zero(), Vec3::Zero(), remaining);
+  segments.push_back(std::move(first));
+  for (size_t j = i + 1; j < segments_.size(); ++j) {
+    Segment seg = segments_[j];
+    if ((seg.end.hands[h].palm - old_target).norm() < 1e-9) seg.end.hands[h].palm = target;
+    segments.push_back(std::move(seg));
+  }
+  return MotionPlan(skeleton_, now, std::move(segments), active_hand_, seed_, tremor_);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -113,6 +113,9 @@ struct Segment {
   BodyKey end;
   std::array<std::vector<core::Vec3>, 2> via;  // palm via-points in F, per hand
   std::array<HandOscillation, 2> oscillation;
+  // Palm path (F, seconds from the segment start) that replaces the profile and via-points for
+  // a hand; set by MotionPlan::retarget.
+  std::array<std::optional<Quintic>, 2> palm_path;
   bool walking = false;         // procedural gait on the legs while the root moves
   double step_length = 0.65;    // m, with walking
   // Idle breathing and weight shift (amplitudes 0 = off).
@@ -150,6 +153,15 @@ class MotionPlan {
   // minimum end of their phase.
   LabelledClip to_clip(double fps, const Signals& signals = {}) const;
 
+  // Re-targets a hand mid-motion (e.g. a receiving hand following a moving object): a new plan
+  // whose time 0 is time t of this one. The hand's palm bends from its current position,
+  // velocity and acceleration to `palm` (world) over `remaining` seconds (> 0) with a quintic
+  // (min-jerk); the current phase lasts at least `remaining` (a waiting phase keeps waiting), and
+  // later phases that held the old target hold the new one. Signals for the new plan are in its
+  // own time.
+  MotionPlan retarget(double t, const Signals& signals, Side side, const core::Vec3& palm,
+                      double remaining) const;
+
  private:
   struct Resolved {
     double start;
@@ -166,6 +178,7 @@ class MotionPlan {
   std::vector<Segment> segments_;
   std::optional<Side> active_hand_;
   double tremor_ = 0;
+  uint64_t seed_ = 0;
   std::array<std::array<double, 6>, 2> tremor_freq_{};   // per hand: x, y, z; two sines each
   std::array<std::array<double, 6>, 2> tremor_phase_{};
 };

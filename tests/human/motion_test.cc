@@ -298,6 +298,32 @@ TEST(MotionTest, ReactivePhasesWaitForTheirSignal) {
   EXPECT_EQ(receive.label_at(open + 2 + 0.3 + 0.01, in_palm).hands[1].holding, "item");
 }
 
+TEST(MotionTest, RetargetingBendsTheReachSmoothlyToTheNewPlace) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  const MotionPlan plan = plan_motion(k, standing(k), example("receive"));
+  const double t = 0.5;  // mid-reach
+  const Vec3 moved = example("receive").zones["zone"].center + Vec3(0.05, -0.1, 0.05);
+  const MotionPlan next = plan.retarget(t, {}, Side::kRight, moved, 0.6);
+  const auto palm = [&](const MotionPlan& m, double tt) {
+    return hand_point(k, m.pose_at(tt), Side::kRight, HandPoint::kPalm);
+  };
+  // Position and velocity continue across the switch.
+  EXPECT_LT((palm(plan, t) - palm(next, 0)).norm(), 1e-9);
+  const Vec3 v_old = (palm(plan, t) - palm(plan, t - 1e-3)) / 1e-3;
+  const Vec3 v_new = (palm(next, 1e-3) - palm(next, 0)) / 1e-3;
+  EXPECT_LT((v_old - v_new).norm(), 0.02 * v_old.norm() + 1e-3);
+  // It arrives at the new place, waits there open, and closes there on the signal.
+  EXPECT_LT((palm(next, 0.6) - moved).norm(), 1e-6);
+  EXPECT_LT((palm(next, 5.0) - moved).norm(), 1e-6);
+  EXPECT_EQ(next.label_at(5.0).phase, "open");
+  const Signals in_palm{{"open", 6.0}};
+  EXPECT_LT((hand_point(k, next.pose_at(6.2, in_palm), Side::kRight, HandPoint::kPalm) - moved).norm(), 1e-6);
+  EXPECT_EQ(next.label_at(6.4, in_palm).hands[1].holding, "item");
+  const LabelledClip lc = next.to_clip(30, in_palm);
+  EXPECT_TRUE(check_self_penetration(lc.clip).ok);
+  EXPECT_TRUE(check_clip_joint_limits(lc.clip).ok);
+}
+
 TEST(MotionTest, IntruderHandEntersTheWorkspace) {
   const Skeleton k = Skeleton::FromHeight(1.80);
   const LabelledClip lc = generate_clip(k, standing(k), example("intrude"), 30);
