@@ -38,6 +38,7 @@ struct ActInfo {
   bool human = false;
   std::vector<std::string> phases;   // human: the primitive's phases (common to all choices)
   std::vector<double> min_phase;     // their minimum durations
+  bool phases_known = true;          // false when the motion is missing or unknown
   double min_motion_onset = 0;
   size_t node = 0;                   // graph node of ACT.start; phases follow; then ACT.end
 };
@@ -144,6 +145,9 @@ class Validator {
   // Words a Text can take; empty + problem when they cannot be known.
   std::vector<std::string> words(const Param& p, const std::string& what) {
     if (p.bad) return {};
+    for (const std::string& ref : var_refs(p.expr)) {
+      if (!contains(var_names_, ref)) return {};  // reported by check_values
+    }
     const StringSet set = string_values(p.expr, var_names_, var_defs_);
     if (!set.complete) {
       problem_at(p.where.text, what + " (a word, or a choice or var of words)", "'" + to_source(p.expr) + "'");
@@ -184,7 +188,7 @@ class Validator {
     double weight_sum = 0;
     for (const Entry<Variant>& v : s_.variants) {
       const Range r = range(v.value.weight);
-      if (!(r.lo > 0) || v.value.weight.expr.kind != Expr::Kind::kNumber) {
+      if (!v.value.weight.bad && (!(r.lo > 0) || v.value.weight.expr.kind != Expr::Kind::kNumber)) {
         problem("variants." + v.name + ".weight", "a weight > 0", to_source(v.value.weight.expr));
       }
       weight_sum += r.lo;
@@ -254,6 +258,7 @@ class Validator {
     for (ActInfo& a : acts_) {
       a.human = a.act->actor == "human";
       if (a.human && a.act->motion) resolve_phases(a);
+      a.phases_known = !a.human || (a.act->motion && (a.act->motion->clip || !a.phases.empty()));
       a.node = node;
       node += a.phases.size() + 2;
     }
@@ -340,7 +345,7 @@ class Validator {
       if (act.cue) {
         event(act.cue->at, path + ".cue.at");
         const Range w = range(act.cue->window);
-        if (!(w.lo > 0)) problem(path + ".cue.window", "a window > 0 s", to_source(act.cue->window.expr));
+        if (!act.cue->window.bad && !(w.lo > 0)) problem(path + ".cue.window", "a window > 0 s", to_source(act.cue->window.expr));
         if (!contains({"go", "stop", "intrusion"}, act.cue->kind)) {
           problem(path + ".cue.kind", "go, stop or intrusion", "'" + act.cue->kind + "'");
         }
@@ -375,11 +380,11 @@ class Validator {
       if (act.within) {
         if (!act.after) problem(path + ".within", "'after' with 'within' (the window starts at that event)", "within alone");
         const Range r = range(*act.within);
-        if (!(r.lo > 0)) problem(path + ".within", "a response window > 0 s", to_source(act.within->expr));
+        if (!act.within->bad && !(r.lo > 0)) problem(path + ".within", "a response window > 0 s", to_source(act.within->expr));
       }
       if (act.sync) {
         event(act.sync->with, path + ".sync.with");
-        if (!(range(act.sync->tolerance).lo > 0)) {
+        if (!act.sync->tolerance.bad && !(range(act.sync->tolerance).lo > 0)) {
           problem(path + ".sync.tolerance", "a tolerance > 0 s", to_source(act.sync->tolerance.expr));
         }
       }
@@ -592,6 +597,7 @@ class Validator {
     if (what == "start") return a->node;
     if (what == "end") return a->node + a->phases.size() + 1;
     const auto it = std::find(a->phases.begin(), a->phases.end(), what);
+    if (it == a->phases.end() && !a->phases_known) return std::nullopt;  // motion already reported
     if (it == a->phases.end()) {
       std::vector<std::string> options = {"start", "end"};
       options.insert(options.end(), a->phases.begin(), a->phases.end());

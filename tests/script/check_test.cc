@@ -2,11 +2,19 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "script/sample.h"
+
 namespace hribench::script {
 namespace {
+
+namespace fs = std::filesystem;
 
 std::string all(const std::vector<Problem>& problems) {
   std::string s;
@@ -14,11 +22,115 @@ std::string all(const std::vector<Problem>& problems) {
   return s;
 }
 
-TEST(CheckTest, GoodExamplesAreClean) {
-  for (const char* file : {"tests/data/scripts/good/handover_h2r.yaml"}) {
+std::vector<std::string> files_in(const std::string& dir, const std::string& ext) {
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() == ext) files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+TEST(CheckTest, GoodExamplesAreCleanAndSample) {
+  const std::vector<std::string> files = files_in("tests/data/scripts/good", ".yaml");
+  ASSERT_GE(files.size(), 3U);
+  std::vector<std::string> roles;
+  for (const std::string& file : files) {
     const std::vector<Problem> problems = check(file);
     EXPECT_TRUE(problems.empty()) << file << "\n" << all(problems);
+    if (!problems.empty()) continue;
+    const Scenario scenario = load_scenario(file);
+    roles.push_back(scenario.role);
+    for (uint64_t seed = 0; seed < 8; ++seed) EXPECT_NO_THROW(sample(scenario, seed)) << file;
   }
+  for (const char* role : {"instructor", "collaborator", "intruder"}) {
+    EXPECT_NE(std::find(roles.begin(), roles.end(), role), roles.end()) << "no good example for " << role;
+  }
+}
+
+// Every broken script gives exactly the problems listed in its .expected file (all of them,
+// each with file:line:col), and never crashes or hangs.
+TEST(CheckTest, BadCorpusGivesTheExpectedProblems) {
+  const std::vector<std::string> files = files_in("tests/data/scripts/bad", ".yaml");
+  ASSERT_GE(files.size(), 30U);
+  for (const std::string& file : files) {
+    const std::string expected_path = file.substr(0, file.size() - 5) + ".expected";
+    std::ifstream in(expected_path);
+    ASSERT_TRUE(in) << "missing " << expected_path;
+    std::stringstream expected;
+    expected << in.rdbuf();
+    const std::vector<Problem> problems = check(file);
+    EXPECT_FALSE(problems.empty()) << file;
+    EXPECT_EQ(all(problems), expected.str()) << file;
+    for (const Problem& p : problems) {
+      // "file:LINE:COL" with a line and a column.
+      EXPECT_EQ(p.where.rfind(file + ":", 0), 0U) << p.text();
+      const std::string rest = p.where.substr(file.size() + 1);
+      EXPECT_TRUE(!rest.empty() && std::isdigit(static_cast<unsigned char>(rest[0]))) << p.text();
+      EXPECT_NE(rest.find(':'), std::string::npos) << p.text();
+    }
+  }
+}
+
+TEST(CheckTest, EveryProblemIsReportedNotOnlyTheFirst) {
+  const std::vector<Problem> problems = check("tests/data/scripts/bad/many_problems.yaml");
+  EXPECT_GE(problems.size(), 5U) << all(problems);
+  // Sorted by position.
+  for (size_t i = 1; i < problems.size(); ++i) {
+    EXPECT_LE(std::stoi(problems[i - 1].where.substr(problems[i - 1].where.find(':') + 1)),
+              std::stoi(problems[i].where.substr(problems[i].where.find(':') + 1)));
+  }
+}
+
+TEST(CheckTest, MissingFileIsAProblem) {
+  const std::vector<Problem> problems = check("tests/data/scripts/no_such_file.yaml");
+  ASSERT_EQ(problems.size(), 1U);
+  EXPECT_EQ(problems[0].text(), "tests/data/scripts/no_such_file.yaml: cannot open file");
+  EXPECT_THROW(load_scenario("tests/data/scripts/bad/cyclic_after.yaml"), core::InputError);
+}
+
+// Constraint-graph checks on small inline scripts.
+std::string script_with_acts(const std::string& acts) {
+  return "hribench: 1\ntask: t\nrole: collaborator\ninstruction: x\nhorizon: 10\n"
+         "scene:\n  objects:\n    box: {kind: box}\n    cube: {kind: cube}\n"
+         "acts:\n" + acts + "success:\n  - grasped(robot, cube)\n";
+}
+
+TEST(CheckTest, ConstraintGraph) {
+  const std::string lid =
+      "  lid:\n    actor: human\n    motion: {primitive: hold_lid, object: box, handle: box, hinge: box}\n";
+  EXPECT_TRUE(check_text(script_with_acts(lid), "t.yaml").empty()) << all(check_text(script_with_acts(lid), "t.yaml"));
+  // before + after that contradict each other: a cycle.
+  const auto p1 = check_text(script_with_acts(lid + "  take:\n    actor: robot\n    goal: grasped(robot, cube)\n"
+                                                    "    after: lid.close\n    before: lid.open\n"), "t.yaml");
+  ASSERT_EQ(p1.size(), 1U) << all(p1);
+  EXPECT_NE(p1[0].message.find("cycle"), std::string::npos);
+  // The lid opens only after the horizon: the robot act waiting for it can never start.
+  const auto p2 = check_text(script_with_acts(
+      "  lid:\n    actor: human\n    onset: 9.5\n    motion: {primitive: hold_lid, object: box, handle: box, hinge: box}\n"
+      "  take:\n    actor: robot\n    goal: grasped(robot, cube)\n    after: lid.hold\n"), "t.yaml");
+  ASSERT_EQ(p2.size(), 1U) << all(p2);
+  EXPECT_NE(p2[0].message.find("earliest"), std::string::npos) << all(p2);
+  // within without after; a contact window whose end precedes its start.
+  const auto p3 = check_text(script_with_acts(lid + "  take:\n    actor: robot\n    goal: grasped(robot, cube)\n    within: 1\n") +
+                                 "safety:\n  contact_permitted:\n    - {robot: fingers, human: right.hand, from: lid.close, to: lid.open}\n",
+                             "t.yaml");
+  ASSERT_EQ(p3.size(), 2U) << all(p3);
+  EXPECT_NE(all(p3).find("'after' with 'within'"), std::string::npos);
+  EXPECT_NE(all(p3).find("lid.open never comes after lid.close"), std::string::npos);
+}
+
+TEST(CheckTest, PredicatesWithVarsAreCheckedForEveryValue) {
+  const std::string text =
+      "hribench: 1\ntask: t\nrole: collaborator\ninstruction: x\nvars:\n  target: choice([cube, mug])\n"
+      "scene:\n  objects:\n    cube: {kind: cube}\n"
+      "acts:\n  take:\n    actor: robot\n    goal: grasped(robot, $target)\n"
+      "success:\n  - grasped(robot, cube)\n";
+  const auto problems = check_text(text, "v.yaml");
+  ASSERT_EQ(problems.size(), 1U) << all(problems);
+  EXPECT_EQ(problems[0].text(),
+            "v.yaml:13:11 (acts.take.goal): expected a scene object as argument 2 of grasped(robot, OBJECT) "
+            "(scene objects: cube), got 'mug' (in 'grasped(robot, mug)')");
 }
 
 }  // namespace
