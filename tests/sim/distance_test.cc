@@ -279,6 +279,20 @@ core::Quat RandomRotation(core::Rng& rng) {
   return q.normalized();
 }
 
+// Penetration: the reported (negative) distance is that of the capsule axis point deepest
+// inside `shape`, found by sampling the axis with the exact signed point distance.
+template <typename Solid>
+void ExpectDeepestSampledPoint(const ClosestPoints& c, const Capsule& cap, const Solid& shape,
+                               int trial) {
+  double deepest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i <= 2000; ++i) {
+    const Vec3 p = cap.axis.p0_W + (i / 2000.0) * (cap.axis.p1_W - cap.axis.p0_W);
+    deepest = std::min(deepest, closest_points(p, shape).distance - cap.radius);
+  }
+  EXPECT_LE(c.distance, deepest + 1e-9) << "trial " << trial;
+  EXPECT_GE(c.distance, deepest - 1e-3) << "trial " << trial;
+}
+
 // Brute force: sampled segment points against sampled surface points. For separated shapes
 // the sampled minimum over-estimates the true distance, so the analytic value must be <= it
 // and close to it.
@@ -301,15 +315,8 @@ TEST(CapsuleBox, MatchesSurfaceSamplingOnRandomConfigurations) {
     const ClosestPoints c = closest_points(cap, box);
     ExpectConsistent(c);
     if (c.distance <= 0) {
-      // Penetration: the reported depth is that of the deepest sampled axis point.
       ++penetrating;
-      double deepest = std::numeric_limits<double>::infinity();
-      for (int i = 0; i <= 2000; ++i) {
-        const Vec3 p = p0 + (i / 2000.0) * (p1 - p0);
-        deepest = std::min(deepest, closest_points(p, box).distance - cap.radius);
-      }
-      EXPECT_LE(c.distance, deepest + 1e-12) << "trial " << trial;
-      EXPECT_GE(c.distance, deepest - 1e-3) << "trial " << trial;
+      ExpectDeepestSampledPoint(c, cap, box, trial);
       continue;
     }
     ++checked;
@@ -379,16 +386,24 @@ TEST(Cylinder, CapsuleAnalyticCases) {
 TEST(Cylinder, CapsuleMatchesSurfaceSampling) {
   core::Rng rng(5);
   int checked = 0;
-  for (int trial = 0; trial < 40; ++trial) {
+  int penetrating = 0;
+  for (int trial = 0; trial < 60; ++trial) {
     const Cylinder cyl{Vec3(0, 0, 0), RandomRotation(rng).toRotationMatrix(),
                        rng.uniform(0.03, 0.15), rng.uniform(0.05, 0.3)};
-    const Vec3 p0(rng.uniform(-0.6, 0.6), rng.uniform(-0.6, 0.6), rng.uniform(-0.6, 0.6));
+    // Every third segment starts near the centre, so some penetrate.
+    const double reach = trial % 3 == 2 ? 0.05 : 0.6;
+    const Vec3 p0(rng.uniform(-reach, reach), rng.uniform(-reach, reach),
+                  rng.uniform(-reach, reach));
     const Vec3 p1 =
         p0 + 0.5 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
     const Capsule cap{{p0, p1}, 0.02};
     const ClosestPoints c = closest_points(cap, cyl);
     ExpectConsistent(c);
-    if (c.distance <= 0) continue;
+    if (c.distance <= 0) {
+      ++penetrating;
+      ExpectDeepestSampledPoint(c, cap, cyl, trial);
+      continue;
+    }
     ++checked;
     double sampled = std::numeric_limits<double>::infinity();
     constexpr int kSeg = 60;
@@ -403,6 +418,7 @@ TEST(Cylinder, CapsuleMatchesSurfaceSampling) {
     EXPECT_NEAR(closest_points(c.point_b_W, cyl).distance, 0.0, 1e-9);
   }
   EXPECT_GT(checked, 20);
+  EXPECT_GT(penetrating, 10);
 }
 
 TEST(Shape, DispatchMatchesTheTypedFunctionsAndSwapsRoles) {
