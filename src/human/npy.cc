@@ -563,36 +563,27 @@ std::string format_npz(const std::map<std::string, std::string>& members) {
     const std::string file = name + ".npy";
     const uint32_t crc = crc32(content);
     const size_t offset = out.size();
-    // Local file header: version 20, no flags, stored, DOS time 0 / date 1980-01-01.
+    // Fields shared by the local header and the directory entry: no flags, stored, DOS time 0
+    // and date 1980-01-01, CRC, sizes, name length, no extra field.
+    const auto shared = [&](std::string& to) {
+      for (const auto& [value, bytes] : {std::pair<uint64_t, int>{0, 2}, {0, 2}, {0, 2}, {0x21, 2}, {crc, 4},
+                                         {content.size(), 4}, {content.size(), 4}, {file.size(), 2}, {0, 2}}) {
+        put_le(to, value, bytes);
+      }
+    };
     put_le(out, 0x04034b50u, 4);
-    put_le(out, 20, 2);
-    put_le(out, 0, 2);
-    put_le(out, 0, 2);
-    put_le(out, 0, 2);
-    put_le(out, 0x21, 2);
-    put_le(out, crc, 4);
-    put_le(out, content.size(), 4);
-    put_le(out, content.size(), 4);
-    put_le(out, file.size(), 2);
-    put_le(out, 0, 2);
+    put_le(out, 20, 2);  // version needed
+    shared(out);
     out += file;
     out += content;
     put_le(directory, 0x02014b50u, 4);
-    put_le(directory, 20, 2);
-    put_le(directory, 20, 2);
-    put_le(directory, 0, 2);
-    put_le(directory, 0, 2);
-    put_le(directory, 0, 2);
-    put_le(directory, 0x21, 2);
-    put_le(directory, crc, 4);
-    put_le(directory, content.size(), 4);
-    put_le(directory, content.size(), 4);
-    put_le(directory, file.size(), 2);
-    put_le(directory, 0, 2);
-    put_le(directory, 0, 2);
-    put_le(directory, 0, 2);
-    put_le(directory, 0, 2);
-    put_le(directory, 0, 4);
+    put_le(directory, 20, 2);  // version made by
+    put_le(directory, 20, 2);  // version needed
+    shared(directory);
+    put_le(directory, 0, 2);  // comment length
+    put_le(directory, 0, 2);  // disk number
+    put_le(directory, 0, 2);  // internal attributes
+    put_le(directory, 0, 4);  // external attributes
     put_le(directory, offset, 4);
     directory += file;
   }

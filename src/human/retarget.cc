@@ -55,11 +55,30 @@ using Marker = std::vector<std::pair<std::string, double>>;
 Marker one(std::string name) { return {{std::move(name), 1.0}}; }
 Marker mix(std::string a, double wa, std::string b) { return {{std::move(a), wa}, {std::move(b), 1.0 - wa}}; }
 
-// Builds a convention from per-side name templates: `L` is replaced by the side's word.
+// One side's limb joint names.
 struct SideNames {
-  std::string hip, knee, ankle, foot, collar_to, shoulder, elbow, wrist;
+  std::string hip, knee, ankle, foot, shoulder, elbow, wrist;
   std::vector<std::string> hand_tip;
 };
+
+// Both sides' names: "left"/"right" + each suffix; in hand-tip patterns "{w}" is left/right and
+// "{s}" is l/r.
+std::array<SideNames, 2> sides(const std::array<std::string, 7>& suffix, const std::vector<std::string>& tips) {
+  std::array<SideNames, 2> out;
+  for (size_t s = 0; s < 2; ++s) {
+    const std::string w = s == 0 ? "left" : "right";
+    const std::string l = s == 0 ? "l" : "r";
+    out[s] = {w + suffix[0], w + suffix[1], w + suffix[2], w + suffix[3], w + suffix[4], w + suffix[5], w + suffix[6], {}};
+    for (std::string tip : tips) {
+      for (const auto& [key, value] : {std::pair<std::string, std::string>{"{w}", w}, {"{s}", l}}) {
+        const size_t at = tip.find(key);
+        if (at != std::string::npos) tip.replace(at, key.size(), value);
+      }
+      out[s].hand_tip.push_back(tip);
+    }
+  }
+  return out;
+}
 
 NameConvention make(std::string name, Marker pelvis, Marker spine1, Marker spine2, Marker spine3,
                     Marker neck, Marker head, const std::array<SideNames, 2>& side,
@@ -115,12 +134,8 @@ std::vector<NameConvention> build_conventions() {
   }
   // Mixamo: Hips, Spine, Spine1, Spine2, Neck, Head, LeftShoulder (clavicle), LeftArm, ...
   {
-    std::array<SideNames, 2> side;
-    for (size_t s = 0; s < 2; ++s) {
-      const std::string w = s == 0 ? "left" : "right";
-      side[s] = {w + "upleg", w + "leg", w + "foot", w + "toebase", w + "shoulder", w + "arm",
-                 w + "forearm", w + "hand", {w + "handmiddle1", w + "handindex1", w + "handend"}};
-    }
+    const auto side = sides({"upleg", "leg", "foot", "toebase", "arm", "forearm", "hand"},
+                            {"{w}handmiddle1", "{w}handindex1", "{w}handend"});
     all.push_back(make("mixamo", one("hips"), one("spine"), one("spine1"), one("spine2"),
                        one("neck"), one("head"), side,
                        {one("leftshoulder"), one("rightshoulder")}));
@@ -128,12 +143,8 @@ std::vector<NameConvention> build_conventions() {
   // CMU, MotionBuilder-friendly cgspeed release: Hips, LHipJoint, LeftUpLeg, ..., LowerBack,
   // Spine, Spine1, Neck, Neck1, Head, LeftShoulder (clavicle), LeftArm, LeftForeArm, LeftHand.
   {
-    std::array<SideNames, 2> side;
-    for (size_t s = 0; s < 2; ++s) {
-      const std::string w = s == 0 ? "left" : "right";
-      side[s] = {w + "upleg", w + "leg", w + "foot", w + "toebase", w + "shoulder", w + "arm",
-                 w + "forearm", w + "hand", {w + "fingerbase", w + "handindex1"}};
-    }
+    const auto side = sides({"upleg", "leg", "foot", "toebase", "arm", "forearm", "hand"},
+                            {"{w}fingerbase", "{w}handindex1"});
     all.push_back(make("cmu_motionbuilder", one("hips"), one("spine"), mix("spine", 0.3, "spine1"),
                        one("spine1"), one("neck1"), one("head"), side,
                        {mix("spine1", 0.5, "leftarm"), mix("spine1", 0.5, "rightarm")}));
@@ -142,13 +153,8 @@ std::vector<NameConvention> build_conventions() {
   // LeftHip, LeftKnee, LeftAnkle, LeftToe, lowerback, Chest, Chest2, lowerneck, Neck, Head,
   // LeftCollar, LeftShoulder (the shoulder joint), LeftElbow, LeftWrist, lhand.
   {
-    std::array<SideNames, 2> side;
-    for (size_t s = 0; s < 2; ++s) {
-      const std::string w = s == 0 ? "left" : "right";
-      const std::string l = s == 0 ? "l" : "r";
-      side[s] = {w + "hip", w + "knee", w + "ankle", w + "toe", w + "shoulder", w + "shoulder",
-                 w + "elbow", w + "wrist", {l + "hand", l + "fingers"}};
-    }
+    const auto side = sides({"hip", "knee", "ankle", "toe", "shoulder", "elbow", "wrist"},
+                            {"{s}hand", "{s}fingers"});
     all.push_back(make("cmu", one("hips"), one("chest"), mix("chest", 0.3, "chest2"),
                        one("chest2"), one("neck"), one("head"), side,
                        {mix("chest2", 0.5, "leftshoulder"), mix("chest2", 0.5, "rightshoulder")}));
