@@ -166,21 +166,36 @@ Resolved resolve(const SceneSpec& in) {
   return r;
 }
 
+// Palm frames in the wrist frame, in the human layer's hand convention (human/arm_ik.h):
+// fingers along -z of the wrist frame, palm normal -y (left) / +y (right).
 std::array<Pose, 2> palm_frames(const human::Skeleton& skeleton) {
-  Pose palm;
-  palm.rotation = core::axis_angle(Vec3::UnitY(), core::kPi / 2);
-  palm.translation = Vec3(0, 0, -skeleton.palm_distance);
-  return {palm, palm};
+  std::array<Pose, 2> palms;
+  for (const human::Side side : {human::Side::kLeft, human::Side::kRight}) {
+    const Vec3 x(0, 0, -1);
+    const Vec3 z(0, side == human::Side::kLeft ? -1.0 : 1.0, 0);
+    core::Mat3 R;
+    R.col(0) = x;
+    R.col(1) = z.cross(x);
+    R.col(2) = z;
+    Pose& palm = palms[static_cast<size_t>(side)];
+    palm.rotation = core::Quat(R);
+    palm.translation = Vec3(0, 0, -skeleton.palm_distance);
+  }
+  return palms;
 }
 
-// Default hold pose in the palm frame: the object upright in the wrist frame, its centre just
-// in front of the palm (outside the hand capsule).
-Pose palm_hold(const human::Skeleton& skeleton, const Pose& X_wrist_palm, const Vec3& half) {
+// Default hold pose in the palm frame for a hand posed at X_W_palm in a person facing `yaw`:
+// the object upright (yawed with the person), its centre just off the palm along the palm
+// normal (outside the hand capsule).
+Pose palm_hold(const human::Skeleton& skeleton, const Pose& X_W_palm, double yaw,
+               const Vec3& half) {
   const double hand_radius = 0.035 * skeleton.scale;
-  Pose X_wrist_obj;
-  X_wrist_obj.translation = X_wrist_palm.translation +
-                            Vec3(hand_radius + half.x() + 0.004, 0, -half.z());
-  return X_wrist_palm.inverse() * X_wrist_obj;
+  const Vec3 normal = X_W_palm.rotation * Vec3::UnitZ();
+  Pose X_WO;
+  X_WO.rotation = core::axis_angle(Vec3::UnitZ(), yaw);
+  X_WO.translation = X_W_palm.translation + normal * (hand_radius + half.y() + 0.004) -
+                     Vec3(0, 0, half.z());
+  return X_W_palm.inverse() * X_WO;
 }
 
 struct Generated {
@@ -203,6 +218,11 @@ Generated generate(const SceneSpec& spec) {
     g.skeleton = human::Skeleton::FromHeight(h.height);
     g.capsules = human::body_capsules(g.skeleton);
     g.human_start = human::SkeletonPose::Standing(g.skeleton, h.x, h.y, h.yaw);
+    // A hand holding an object from the start carries it in front: forearm forward.
+    for (const ObjectSpec& o : s.objects)
+      if (o.held_by)
+        g.human_start.local[static_cast<size_t>(human::index(human::elbow(*o.held_by)))] =
+            core::axis_angle(Vec3::UnitY(), -core::kPi / 2);
     g.X_wrist_palm = palm_frames(g.skeleton);
     X_WJ = human::forward_kinematics(g.skeleton, g.human_start);
   }
@@ -244,13 +264,12 @@ Generated generate(const SceneSpec& spec) {
     Pose hold;
     if (h.present) {
       const auto side = o.held_by.value_or(h.handedness);
-      hold = palm_hold(g.skeleton, g.X_wrist_palm[static_cast<size_t>(side)], half);
+      const Pose X_W_palm = X_WJ[static_cast<size_t>(human::index(human::wrist(side)))] *
+                            g.X_wrist_palm[static_cast<size_t>(side)];
+      hold = palm_hold(g.skeleton, X_W_palm, h.yaw, half);
+      if (o.held_by) X_WO = X_W_palm * hold;
     }
-    if (o.held_by) {
-      const auto side = static_cast<size_t>(*o.held_by);
-      X_WO = X_WJ[static_cast<size_t>(human::index(human::wrist(*o.held_by)))] *
-             g.X_wrist_palm[side] * hold;
-    } else {
+    if (!o.held_by) {
       X_WO.rotation = core::axis_angle(Vec3::UnitZ(), o.yaw);
       X_WO.translation = Vec3(o.x, o.y, kTableTopZ);
     }

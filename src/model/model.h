@@ -169,9 +169,9 @@ struct ObjectInfo {
   std::optional<human::Side> held_by;  // from the spec
   int lid_body = -1;   // kBox only: the lid body, else -1
   int lid_joint = -1;  // kBox only: the lid hinge joint id (0 = closed), else -1
-  // Default pose of the object in a human palm frame (see Model::X_wrist_palm) when held
-  // from the start: upright when the wrist is at rest orientation, resting against the palm
-  // (just outside the hand capsule).
+  // Default pose of the object body in the palm frame (see Model::X_wrist_palm) of the hand
+  // that holds it from the start (held_by; else the handedness hand): upright in the start
+  // pose, its centre just off the palm along the palm normal (outside the hand capsule).
   core::Pose X_palm_hold;
 };
 
@@ -210,12 +210,15 @@ struct Model {
   std::vector<int> human_capsule_geom;            // geom id of each capsule
   std::array<int, human::kNumJoints> human_body{};   // body id per joint (-1 if absent)
   std::array<int, human::kNumJoints> human_mocap{};  // mocap index per joint (-1 if absent)
-  human::SkeletonPose human_start;                // pose at reset (standing at spec position)
+  // Pose at reset: standing at the spec position, arms hanging; a hand that holds an object
+  // from the start (ObjectSpec::held_by) has its forearm bent forward 90 deg.
+  human::SkeletonPose human_start;
   // Palm frame of each hand (index by static_cast<size_t>(Side)), relative to the wrist joint
-  // frame: origin at the palm centre (skeleton.palm_distance along -z of the wrist frame), z
-  // axis = palm normal pointing out of the palm = +x of the wrist frame (forward at rest, the
-  // anatomical position), x axis along the fingers (-z of the wrist frame). MuJoCo sites
-  // "palm_left" / "palm_right" on the wrist bodies mark it.
+  // frame, in the human layer's hand convention (human/arm_ik.h): origin at the palm centre
+  // (skeleton.palm_distance along -z of the wrist frame), x axis along the fingers (-z of the
+  // wrist frame), z axis = palm normal (the way the palm faces: -y of the wrist frame for the
+  // left hand, +y for the right, i.e. toward the midline at rest). MuJoCo sites "palm_left" /
+  // "palm_right" on the wrist bodies mark it.
   std::array<core::Pose, 2> X_wrist_palm;
 
   // Objects, in spec order.

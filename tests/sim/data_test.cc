@@ -1,5 +1,6 @@
 #include "sim/data.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -126,6 +127,39 @@ TEST_F(DataTest, ResetRestoresTheStartStateAndIsDeterministic) {
   EXPECT_EQ(std::memcmp(a.mj->qpos, b.mj->qpos, sizeof(mjtNum) * static_cast<size_t>(nq)), 0);
   ExpectNoWarnings(a.mj.get());
   ExpectNoWarnings(b.mj.get());
+}
+
+TEST_F(DataTest, HumanSweepingThroughTheRobotMakesContactsAndStaysStable) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  Data data = make_data(model);
+  int contacts = 0;
+  double fastest = 0;
+  // Arms raised forward, the person turns so the arms sweep through the robot's wrist.
+  for (int i = 0; i < 1500; ++i) {
+    const double s = std::min(1.0, i / 600.0);
+    human::SkeletonPose pose =
+        human::SkeletonPose::Standing(model.skeleton, 1.0, 0.0, core::kPi - 0.7 + 1.4 * s);
+    for (const auto side : {human::Side::kLeft, human::Side::kRight})
+      pose.local[static_cast<size_t>(human::index(human::shoulder(side)))] =
+          core::axis_angle(Vec3::UnitY(), -1.35);
+    set_human_pose(model, data, pose);
+    step(model, data);
+    for (int c = 0; c < data.mj->ncon; ++c) {
+      const auto& t1 = model.geom_tags[static_cast<size_t>(data.mj->contact[c].geom1)];
+      const auto& t2 = model.geom_tags[static_cast<size_t>(data.mj->contact[c].geom2)];
+      if ((t1.is_robot() && t2.is_human()) || (t2.is_robot() && t1.is_human())) ++contacts;
+    }
+    for (const double v : arm_joint_velocities(model, data)) fastest = std::max(fastest, std::abs(v));
+  }
+  EXPECT_GT(contacts, 0);
+  EXPECT_TRUE(std::isfinite(fastest));
+  EXPECT_LT(fastest, 20.0);
+  // The person steps back; pushed aside, the servos bring the arm back home.
+  set_human_pose(model, data, model.human_start);
+  for (int i = 0; i < 1000; ++i) step(model, data);
+  const ArmVector q = arm_joint_positions(model, data);
+  for (size_t i = 0; i < model::kArmDof; ++i) EXPECT_NEAR(q[i], model::kArmHome[i], 0.05) << i;
+  ExpectNoWarnings(data.mj.get());
 }
 
 TEST_F(DataTest, WarningsAreCountedAndDescribed) {
