@@ -774,31 +774,37 @@ void build_point(PlanBuilder& b) {
 }
 
 // go / give_me / your_turn / stop / cancel.
+
+// raise -> gesture -> lower, the gesture turning the hand about `axis` (F, through the wrist)
+// by `angle` and moving the wrist by `offset`, `cycles` times.
+void raise_gesture_lower(PlanBuilder& b, Side h, const Vec3& axis, double angle, const Vec3& offset) {
+  b.push("raise", b.num("raise"));
+  HandOscillation osc;
+  osc.cycles = b.num("cycles");
+  osc.angle = angle;
+  osc.axis = axis;
+  osc.offset = offset;
+  b.push("gesture", b.num("gesture")).oscillation[slot(h)] = osc;
+  b.retract("lower", b.num("lower"), {h});
+}
+
 void build_go(PlanBuilder& b) {
   const Side h = b.hand();
   const double s = b.skeleton().scale;
   b.begin();
   const Vec3 S = b.shoulder_F(h);
-  const bool wave = b.choice("style") == "wave";
-  HandOscillation osc;
-  osc.cycles = b.num("cycles");
-  osc.angle = b.num("amplitude") * kDeg;
-  if (wave) {
+  const double angle = b.num("amplitude") * kDeg;
+  if (b.choice("style") == "wave") {
     // Hand up beside the head, palm toward the robot, waving side to side about the wrist.
     b.move_hand(h, S + Vec3(0.25 * s, 0, 0.35 * s) - 0.12 * s * medial(h),
                 hand_rotation(h, Vec3::UnitZ(), Vec3::UnitX() + 0.6 * medial(h)), b.swivel() + 0.5);
-    osc.axis = Vec3::UnitX();
-    osc.offset = 0.04 * s * medial(h);
+    raise_gesture_lower(b, h, Vec3::UnitX(), angle, 0.04 * s * medial(h));
   } else {
     // Palm up in front of the waist; the fingers beckon toward the person.
     b.move_hand(h, S + Vec3(0.33 * s, 0, -0.25 * s) + 0.05 * s * medial(h),
                 palm_up(h, Vec3::UnitX()), b.swivel());
-    osc.axis = Vec3::UnitX().cross(Vec3::UnitZ());
-    osc.offset = Vec3(-0.03 * s, 0, 0);
+    raise_gesture_lower(b, h, Vec3::UnitX().cross(Vec3::UnitZ()), angle, Vec3(-0.03 * s, 0, 0));
   }
-  b.push("raise", b.num("raise"));
-  b.push("gesture", b.num("gesture")).oscillation[slot(h)] = osc;
-  b.retract("lower", b.num("lower"), {h});
 }
 
 void build_stop(PlanBuilder& b) {
@@ -822,14 +828,7 @@ void build_give_me(PlanBuilder& b) {
                                     : Vec3(S + Vec3(0.35 * s, 0, -0.3 * s) + 0.05 * s * medial(h));
   const Vec3 fingers = horizontal_dir(S, palm);
   b.move_hand(h, palm, palm_up(h, fingers), b.swivel());
-  b.push("raise", b.num("raise"));
-  HandOscillation osc;
-  osc.cycles = b.num("cycles");
-  osc.angle = b.num("amplitude") * kDeg;
-  osc.axis = fingers.cross(Vec3::UnitZ());
-  osc.offset = -0.02 * s * fingers;
-  b.push("gesture", b.num("gesture")).oscillation[slot(h)] = osc;
-  b.retract("lower", b.num("lower"), {h});
+  raise_gesture_lower(b, h, fingers.cross(Vec3::UnitZ()), b.num("amplitude") * kDeg, -0.02 * s * fingers);
 }
 
 void build_cancel(PlanBuilder& b) {
@@ -853,14 +852,9 @@ void build_cancel(PlanBuilder& b) {
   const Vec3 S = b.shoulder_F(h);
   b.move_hand(h, S + Vec3(0.36 * s, 0, -0.08 * s) + 0.1 * s * medial(h),
               hand_rotation(h, Vec3(0.3, 0, 1), Vec3::UnitX() + 0.5 * medial(h)), b.swivel());
-  b.push("raise", b.num("raise"));
-  HandOscillation osc;
-  osc.cycles = b.num("cycles");
-  osc.angle = 0.5 * b.num("amplitude") * kDeg;
-  osc.axis = Vec3::UnitZ();
-  osc.offset = std::sin(b.num("amplitude") * kDeg) * 0.25 * s * medial(h);
-  b.push("gesture", b.num("gesture")).oscillation[slot(h)] = osc;
-  b.retract("lower", b.num("lower"), {h});
+  const double amplitude = b.num("amplitude") * kDeg;
+  raise_gesture_lower(b, h, Vec3::UnitZ(), 0.5 * amplitude,
+                      std::sin(amplitude) * 0.25 * s * medial(h));
 }
 
 void build_your_turn(PlanBuilder& b) {
