@@ -452,6 +452,7 @@ double protective_separation(double approach_speed, double separation, const Met
 
 EpisodeMetrics compute_metrics(const ScenarioContract& contract, const EpisodeLog& log,
                                const MetricConstants& c) {
+  check_episode_log(log, "episode log");
   const TimeSet moving = moving_time(log, c);
   const Episode e{contract,      log,           c, detect_onsets(contract, log, moving, c),
                   moving,        still_time(log, c), start_time(log), end_time(log)};

@@ -95,8 +95,9 @@ std::vector<std::optional<double>> robot_act_onsets(const ScenarioContract& cont
 // (m/s, toward the human; negative values count as 0) at separation d (m).
 double protective_separation(double approach_speed, double separation, const MetricConstants& c);
 
-// All metrics of one episode. Throws core::InputError if the contract names a predicate series
-// the log lacks (success, intent/contradicted when contradiction is set) or a robot act twice.
+// All metrics of one episode. Throws core::InputError if the log is inconsistent
+// (check_episode_log), or the contract names a predicate series the log lacks (success,
+// intent/contradicted when contradiction is set), a robot act twice, or a go cue without goal.
 EpisodeMetrics compute_metrics(const ScenarioContract& contract, const EpisodeLog& log,
                                const MetricConstants& c = {});
 

@@ -213,6 +213,38 @@ EpisodeResult episode_from_json(const json& j, const std::string& where) {
   return r;
 }
 
+void append_episode_line(const std::filesystem::path& path, const EpisodeResult& episode) {
+  std::ofstream out(path, std::ios::binary | std::ios::app);
+  out << episode_to_json(episode).dump() << '\n';
+  out.flush();
+  if (!out) throw core::InputError::Message(path.string(), "cannot append to the episode file");
+}
+
+std::vector<EpisodeResult> load_episode_lines(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw core::InputError::Message(path.string(), "cannot open the episode file");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<EpisodeResult> episodes;
+  size_t start = 0;
+  int line = 0;
+  while (start < text.size()) {
+    const size_t end = text.find('\n', start);
+    if (end == std::string::npos) break;  // an unfinished last line
+    ++line;
+    const std::string where = fmt::format("{}:{}", path.string(), line);
+    json j;
+    try {
+      j = json::parse(text.substr(start, end - start));
+    } catch (const json::parse_error& e) {
+      throw core::InputError(where, "one JSON episode per line",
+                             fmt::format("invalid JSON at byte {}", e.byte));
+    }
+    episodes.push_back(episode_from_json(j, where));
+    start = end + 1;
+  }
+  return episodes;
+}
+
 json results_to_json(const RunResults& run) {
   json constants = json::object();
   visit_constants(run.info.constants, [&](const char* name, const auto& value, const char*) {

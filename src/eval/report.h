@@ -46,6 +46,13 @@ nlohmann::json episode_to_json(const EpisodeResult& episode);
 // mistyped field or an unknown label/status.
 EpisodeResult episode_from_json(const nlohmann::json& json, const std::string& where);
 
+// JSON lines, one episode per line, for results written as each episode finishes (--resume).
+// append_episode_line writes one line and flushes; throws core::InputError if it cannot.
+void append_episode_line(const std::filesystem::path& path, const EpisodeResult& episode);
+// The episodes of such a file, in order. A last line without its newline (a run killed while
+// writing it) is dropped; any other bad line is a core::InputError at "FILE:LINE".
+std::vector<EpisodeResult> load_episode_lines(const std::filesystem::path& path);
+
 nlohmann::json results_to_json(const RunResults& run);
 RunResults results_from_json(const nlohmann::json& json, const std::string& where);
 

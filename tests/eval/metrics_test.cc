@@ -63,6 +63,14 @@ TEST(Success, MissingSeriesIsAnInputError) {
   }
 }
 
+TEST(Success, InconsistentLogIsAnInputError) {
+  EpisodeBuilder b(1.0);
+  Contact c = human_contact("right_hand", human::BodyRegion::kHand, 5.0);
+  c.region.reset();
+  b.contact(0.5, 0.5, c);
+  EXPECT_THROW(compute_metrics(ScenarioContract{}, b.log()), core::InputError);
+}
+
 TEST(Rsp, NoCuesIsNotApplicable) {
   EpisodeBuilder b(5.0);
   const EpisodeMetrics m = compute_metrics(ScenarioContract{}, b.log());

@@ -106,6 +106,29 @@ TEST(Report, WriteAndLoadRun) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(Report, EpisodeLinesSurviveAKilledWrite) {
+  const auto path = std::filesystem::temp_directory_path() / "hribench_eval_lines_test.jsonl";
+  std::filesystem::remove(path);
+  const RunResults run = sample_run();
+  for (const EpisodeResult& r : run.episodes) append_episode_line(path, r);
+  // A run killed while writing the fifth line leaves half a line behind.
+  std::ofstream(path, std::ios::app) << "{\"task\": \"stop_";
+  const std::vector<EpisodeResult> back = load_episode_lines(path);
+  ASSERT_EQ(back.size(), 4u);
+  for (size_t i = 0; i < back.size(); ++i) {
+    EXPECT_EQ(episode_to_json(back[i]), episode_to_json(run.episodes[i]));
+  }
+  // A broken line in the middle is an error naming the line.
+  std::ofstream(path, std::ios::trunc) << episode_to_json(run.episodes[0]).dump() << "\nnot json\n";
+  try {
+    load_episode_lines(path);
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(e.where(), path.string() + ":2");
+  }
+  std::filesystem::remove(path);
+}
+
 TEST(Report, BadEpisodeFieldsNameTheirPlace) {
   nlohmann::json j = episode_to_json(sample_run().episodes[0]);
   j["hcs"] = "high";
