@@ -93,6 +93,8 @@ class HandSweep : public testing::MujocoTest {
 
   struct SweepResult {
     std::vector<Contact> robot_human;  // every contact involving the human
+    int shallow = 0;                   // contacts less than 1 cm deep
+    int normals_away = 0;              // shallow contacts whose normal points away from the human
     double min_distance = std::numeric_limits<double>::infinity();
     BodyRegion min_region = BodyRegion::kTorso;
   };
@@ -124,7 +126,17 @@ class HandSweep : public testing::MujocoTest {
       // Contacts and forces of the state the step just solved.
       find_contacts(model_, data_, &contacts);
       for (const Contact& c : contacts) {
-        if (c.involves_human()) result.robot_human.push_back(c);
+        if (!c.involves_human()) continue;
+        result.robot_human.push_back(c);
+        // The normal points from a (robot) to b (human): toward the human geom's centre. (Only
+        // for shallow contacts: once a thin robot part is crossed by more than the capsule
+        // radius, MuJoCo's box-capsule normal may legitimately flip.)
+        const auto g = static_cast<size_t>(c.b.geom);
+        const Vec3 centre(d.geom_xpos[3 * g], d.geom_xpos[3 * g + 1], d.geom_xpos[3 * g + 2]);
+        if (c.distance > -0.01) {
+          ++result.shallow;
+          if (c.normal_W.dot(centre - c.position_W) <= 0) ++result.normals_away;
+        }
       }
       forward(model_, data_);
       const Separation sep = min_separation(monitor, data_);
@@ -160,6 +172,8 @@ TEST_F(HandSweep, ThroughTheRobotGivesAHandContactWithForce) {
     }
   }
   EXPECT_GT(hand_force, 0.0);
+  EXPECT_GT(r.shallow, 10);
+  EXPECT_EQ(r.normals_away, 0);
   // The separation agrees: the hand penetrated the robot at some point.
   EXPECT_LT(r.min_distance, 0.0);
 }
