@@ -1,5 +1,6 @@
 #include "script/phases.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/errors.h"
@@ -88,6 +89,28 @@ std::vector<PhaseTiming> phase_timing(const Motion& motion, const core::Vec3& st
     phases.push_back(std::move(t));
   }
   return phases;
+}
+
+std::string primitive_reference_markdown() {
+  std::string md = "| primitive | phases (timed by) | other parameters |\n|---|---|---|\n";
+  for (const human::PrimitiveInfo& p : human::primitive_catalog()) {
+    std::string phases;
+    std::vector<std::string> timing;
+    for (size_t i = 0; i < p.phases.size(); ++i) {
+      const std::string param = phase_parameter(p, i);
+      timing.push_back(param);
+      phases += (i ? ", " : "") + std::string(p.phases[i].name) + (p.phases[i].waits ? "*" : "") +
+                (param.empty() ? "" : " (" + param + ")");
+    }
+    std::string others;
+    for (const human::ParamInfo& q : p.params) {
+      const std::string name(q.name);
+      if (std::find(timing.begin(), timing.end(), name) != timing.end()) continue;
+      others += (others.empty() ? "" : ", ") + name + (q.required ? " (required)" : "");
+    }
+    md += "| `" + std::string(p.name) + "` | " + phases + " | " + others + " |\n";
+  }
+  return md;
 }
 
 }  // namespace hribench::script

@@ -41,4 +41,8 @@ double motion_onset(const Motion& motion);
 // The value of a resolved parameter, or nullptr.
 const ValueTree* find_param(const Motion& motion, const std::string& name);
 
+// The primitive catalog as a Markdown table (name, phases with the parameter that times each,
+// waiting phases marked *, other parameters), for docs/scenario-scripts.md.
+std::string primitive_reference_markdown();
+
 }  // namespace hribench::script
