@@ -724,7 +724,7 @@ void build_walk_to(PlanBuilder& b) {
   st.X_WF.rotation = core::axis_angle(Vec3::UnitZ(), heading);
   b.push("turn", b.num("turn"));
   st.X_WF.translation = goal_xy;
-  Segment& walk = b.push("walk", std::max(0.2, 1.875 * dist / b.num("speed")));
+  Segment& walk = b.push("walk", walk_duration(dist, b.num("speed")));
   walk.walking = true;
   walk.step_length = b.num("step_length");
   const double yaw = b.has("yaw_deg") ? b.num("yaw_deg") * kDeg : heading;
@@ -1050,6 +1050,8 @@ void build_release_retract(PlanBuilder& b) {
 }
 
 }  // namespace
+
+double walk_duration(double distance, double speed) { return std::max(0.2, 1.875 * distance / speed); }
 
 MotionPlan plan_motion(const Skeleton& skeleton, const SkeletonPose& start,
                        const PrimitiveParams& params) {

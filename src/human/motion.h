@@ -190,6 +190,10 @@ BodyKey body_key(const Skeleton& skeleton, const SkeletonPose& pose);
 // The rest hand of a side: arm hanging with a slight elbow bend, palm facing the thigh (F).
 HandKey neutral_hand(const Skeleton& skeleton, Side side);
 
+// Duration (s) of walk_to's "walk" phase: a min-jerk root move whose PEAK speed is `speed`
+// (m/s): max(0.2, 1.875 * distance / speed).
+double walk_duration(double distance, double speed);
+
 // Builds the plan of a primitive for a person with this skeleton starting in `start` (for a
 // first act: SkeletonPose::Standing). Validates the parameters first (see validate()).
 MotionPlan plan_motion(const Skeleton& skeleton, const SkeletonPose& start,

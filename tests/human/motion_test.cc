@@ -419,6 +419,8 @@ TEST(MotionTest, WalkToArrivesAndFacesTheRequestedHeading) {
   // Walk duration: 1.875 * distance / peak speed; the legs move while walking.
   const Phase* walk = lc.clip.phase("walk");
   EXPECT_NEAR(walk->end - walk->start, 1.875 * 0.8 / 1.4, 1e-9);
+  EXPECT_DOUBLE_EQ(walk_duration(0.8, 1.4), 1.875 * 0.8 / 1.4);
+  EXPECT_DOUBLE_EQ(walk_duration(0, 1.4), 0.2);
   const SkeletonPose mid = lc.clip.pose_at(0.5 * (walk->start + walk->end));
   EXPECT_GT(core::Quat(mid.local[index(Joint::kLeftHip)]).angularDistance(core::Quat::Identity()), 0.05);
 }
