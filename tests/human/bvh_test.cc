@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include "core/errors.h"
 #include "human/motion_fixtures.h"
@@ -206,6 +207,23 @@ TEST(BvhTest, RoundTripOfOurSkeletonReproducesJointPositions) {
     EXPECT_LT(err, 1e-3);
     std::printf("BVH %s round trip: max joint error %.3g m\n", order == BvhRotationOrder::kZYX ? "ZYX" : "XYZ", err);
   }
+}
+
+TEST(BvhTest, MixamoNamesImportTheSameMotion) {
+  // Our BVH with every joint renamed the Mixamo way (with the "mixamorig:" prefix).
+  const Clip clip = testing::synthetic_clip();
+  BvhMotion m = bvh_from_clip(clip, BvhRotationOrder::kZYX);
+  const std::map<std::string, std::string> rename = {
+      {"pelvis", "Hips"}, {"spine1", "Spine"}, {"spine2", "Spine1"}, {"spine3", "Spine2"}, {"neck", "Neck"},
+      {"head", "Head"}, {"left_collar", "LeftShoulder"}, {"left_shoulder", "LeftArm"},
+      {"left_elbow", "LeftForeArm"}, {"left_wrist", "LeftHand"}, {"right_collar", "RightShoulder"},
+      {"right_shoulder", "RightArm"}, {"right_elbow", "RightForeArm"}, {"right_wrist", "RightHand"},
+      {"left_hip", "LeftUpLeg"}, {"left_knee", "LeftLeg"}, {"left_ankle", "LeftFoot"}, {"left_foot", "LeftToeBase"},
+      {"right_hip", "RightUpLeg"}, {"right_knee", "RightLeg"}, {"right_ankle", "RightFoot"},
+      {"right_foot", "RightToeBase"}};
+  for (BvhJoint& j : m.joints) j.name = "mixamorig:" + rename.at(j.name);
+  const Clip back = clip_from_bvh(parse_bvh(format_bvh(m), "mixamo.bvh"), {}, "mixamo.bvh");
+  EXPECT_LT(testing::max_joint_error(clip, back), 1e-3);
 }
 
 TEST(BvhTest, UnknownSkeletonIsAClearError) {

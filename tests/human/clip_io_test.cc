@@ -10,12 +10,14 @@
 #include "core/errors.h"
 #include "human/bvh.h"
 #include "human/npy.h"
+#include "human/smplh.h"
 #include "human/motion_fixtures.h"
 
 namespace hribench::human {
 namespace {
 
 namespace fs = std::filesystem;
+using core::Vec3;
 
 fs::path temp_dir() {
   const fs::path dir = fs::temp_directory_path() / "hribench_clip_io_test";
@@ -187,6 +189,25 @@ TEST(ClipIoTest, HumanMl3dRoundTripReproducesJointPositions) {
   // Without the sidecar: HumanML3D's 20 fps.
   fs::remove(fs::path(path.string() + ".json"));
   EXPECT_EQ(read_clip(path).fps, 20.0);
+}
+
+TEST(ClipIoTest, HumanMl3dConventionFacesForwardWithLeftOnTheLeft) {
+  // A HumanML3D-style file written independently of our writer: the SMPL T-pose in its own
+  // y-up frame (x = the body's left, z = forward), pelvis 0.9 m up, two frames.
+  std::array<Vec3, kNumJoints> zero_pose;
+  zero_pose.fill(Vec3::Zero());
+  const JointTargets t = smpl_forward_kinematics(zero_pose, Vec3(0, 0.9 + 0.2233, 0));
+  std::vector<double> values;
+  for (int f = 0; f < 2; ++f) {
+    for (const Vec3& p : t.joint) values.insert(values.end(), {p.x(), p.y(), p.z() + 0.1 * f});
+  }
+  const Clip clip = parse_humanml3d(format_npy({2, 22, 3}, values, NpyType::kFloat32), 20, {}, "h.npy");
+  EXPECT_EQ(clip.fps, 20.0);
+  EXPECT_NEAR(facing_yaw(clip.frames[0]), 0.0, 0.05);  // file +z = our +x
+  const auto X = forward_kinematics(clip.skeleton, clip.frames[0]);
+  EXPECT_GT(X[static_cast<size_t>(index(Joint::kLeftWrist))].translation.y(), 0.5);   // T-pose, left arm +y
+  EXPECT_LT(X[static_cast<size_t>(index(Joint::kRightWrist))].translation.y(), -0.5);
+  EXPECT_GT(clip.frames[1].X_WP.translation.x(), clip.frames[0].X_WP.translation.x());  // moves forward
 }
 
 TEST(ClipIoTest, BvhAndNpzThroughWriteAndRead) {
