@@ -58,7 +58,7 @@ int tree_distance(Joint a, Joint b) {
 
 std::optional<HandPoint> hand_point_from_name(std::string_view name) {
   if (name == "wrist") return HandPoint::kWrist;
-  if (name == "palm") return HandPoint::kPalm;
+  if (name == "palm" || name == "hand") return HandPoint::kPalm;
   if (name == "index") return HandPoint::kIndexTip;
   return std::nullopt;
 }

@@ -26,7 +26,7 @@ struct CheckResult {
 
 // Which point of a hand a check follows (human/arm_ik.h defines them).
 enum class HandPoint { kWrist, kPalm, kIndexTip };
-// Parses "wrist" | "palm" | "index"; nullopt otherwise.
+// Parses "wrist" | "palm" (or "hand") | "index"; nullopt otherwise.
 std::optional<HandPoint> hand_point_from_name(std::string_view name);
 core::Vec3 hand_point(const Skeleton& skeleton, const SkeletonPose& pose, Side side,
                       HandPoint point);

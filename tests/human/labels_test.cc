@@ -36,6 +36,7 @@ TEST(LabelsTest, SegmentDistanceCoversTheCases) {
 
 TEST(LabelsTest, HandPointsAreNamed) {
   EXPECT_EQ(hand_point_from_name("palm"), HandPoint::kPalm);
+  EXPECT_EQ(hand_point_from_name("hand"), HandPoint::kPalm);
   EXPECT_EQ(hand_point_from_name("wrist"), HandPoint::kWrist);
   EXPECT_EQ(hand_point_from_name("index"), HandPoint::kIndexTip);
   EXPECT_FALSE(hand_point_from_name("thumb").has_value());
