@@ -88,6 +88,10 @@ class Validator {
     out_.push_back(core::InputError(where, std::move(expected), std::move(got)));
   }
 
+  std::string var_list() const {
+    return var_names_.empty() ? "a defined var (none is defined)" : "a defined var (vars: " + join(var_names_) + ")";
+  }
+
   // --- vars --------------------------------------------------------------------------------
   void add_var(const Entry<Any>& v, const std::string& path) {
     for (const std::string& ref : var_refs(v.value.expr)) {
@@ -117,7 +121,7 @@ class Validator {
         if (p.bad) return;
         for (const std::string& ref : var_refs(p.expr)) {
           if (!contains(self.var_names_, ref)) {
-            self.problem_at(p.where.text, "a defined var (vars: " + join(self.var_names_) + ")", "$" + ref);
+            self.problem_at(p.where.text, self.var_list(), "$" + ref);
             continue;
           }
           Expr e;
@@ -132,7 +136,7 @@ class Validator {
       void operator()(Pred& p) {
         for (const std::string& ref : template_refs(p.source)) {
           if (!contains(self.var_names_, ref)) {
-            self.problem_at(p.where.text, "a defined var (vars: " + join(self.var_names_) + ")", "$" + ref);
+            self.problem_at(p.where.text, self.var_list(), "$" + ref);
           }
         }
       }

@@ -48,6 +48,25 @@ TEST(CheckTest, GoodExamplesAreCleanAndSample) {
   }
 }
 
+// True when `text` matches `pattern`, where '*' in the pattern matches any run of characters
+// (used for lists that come from the human layer's catalog, which may grow).
+bool matches(const std::string& pattern, const std::string& text) {
+  const size_t star = pattern.find('*');
+  if (star == std::string::npos) return pattern == text;
+  if (text.compare(0, star, pattern, 0, star) != 0) return false;
+  for (size_t i = star; i <= text.size(); ++i) {
+    if (matches(pattern.substr(star + 1), text.substr(i))) return true;
+  }
+  return false;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::stringstream s(text);
+  for (std::string line; std::getline(s, line);) lines.push_back(line);
+  return lines;
+}
+
 // Every broken script gives exactly the problems listed in its .expected file (all of them,
 // each with file:line:col), and never crashes or hangs.
 TEST(CheckTest, BadCorpusGivesTheExpectedProblems) {
@@ -61,7 +80,12 @@ TEST(CheckTest, BadCorpusGivesTheExpectedProblems) {
     expected << in.rdbuf();
     const std::vector<Problem> problems = check(file);
     EXPECT_FALSE(problems.empty()) << file;
-    EXPECT_EQ(all(problems), expected.str()) << file;
+    const std::vector<std::string> want = lines_of(expected.str());
+    const std::vector<std::string> got = lines_of(all(problems));
+    EXPECT_EQ(got.size(), want.size()) << file << "\n" << all(problems);
+    for (size_t i = 0; i < std::min(got.size(), want.size()); ++i) {
+      EXPECT_TRUE(matches(want[i], got[i])) << "expected: " << want[i] << "\n     got: " << got[i];
+    }
     for (const Problem& p : problems) {
       // "file:LINE:COL" with a line and a column.
       EXPECT_EQ(p.where.rfind(file + ":", 0), 0U) << p.text();
