@@ -237,5 +237,41 @@ TEST(ClipIoTest, UnknownExtensionsAndUnwritablePathsAreInputErrors) {
   EXPECT_THROW(read_clip("tests/data/motion/make_fixtures.py"), core::InputError);
 }
 
+// Every prefix and every single-byte corruption of valid files is either read or refused with
+// an InputError: never a crash, never another exception.
+TEST(ClipIoTest, TruncatedOrCorruptedFilesNeverCrash) {
+  const std::string npz = slurp("tests/data/motion/hy_motion_like.npz");
+  const std::string npy = format_humanml3d(testing::synthetic_clip());
+  const std::string bvh = format_bvh(bvh_from_clip(testing::synthetic_clip(), BvhRotationOrder::kZYX)).substr(0, 4000);
+  int refused = 0, read = 0;
+  const auto attempt = [&](const std::string& bytes, const char* name) {
+    const std::string_view ext = std::string_view(name).substr(std::string_view(name).size() - 3);
+    try {
+      if (ext == "npz") clip_from_smplh(NpzArchive(bytes, name), {}, name);
+      else if (ext == "npy") parse_humanml3d(bytes, 20, {}, name);
+      else clip_from_bvh(parse_bvh(bytes, name), {}, name);
+      ++read;
+    } catch (const core::InputError&) {
+      ++refused;
+    }
+  };
+  for (size_t n = 0; n < npz.size(); n += 3) attempt(npz.substr(0, n), "cut.npz");
+  for (size_t i = 0; i < npz.size(); ++i) {
+    std::string bad = npz;
+    bad[i] = static_cast<char>(bad[i] ^ 0x5a);
+    attempt(bad, "flip.npz");
+  }
+  for (size_t n = 0; n < 400; n += 7) attempt(npy.substr(0, n), "cut.npy");
+  for (size_t i = 0; i < 200; ++i) {
+    std::string bad = npy;
+    bad[i] = static_cast<char>(bad[i] ^ 0x5a);
+    attempt(bad, "flip.npy");
+  }
+  const size_t motion = bvh.find("MOTION");
+  for (size_t n = 0; n < motion + 40; n += 11) attempt(bvh.substr(0, n), "cut.bvh");
+  EXPECT_GT(refused, 500);
+  EXPECT_GT(read, 0);  // flips in unused bytes (names, padding) still read
+}
+
 }  // namespace
 }  // namespace hribench::human
