@@ -163,6 +163,34 @@ ActGraph compile(const EpisodeSpec& spec) {
       act.goal = add_predicate(g, *a.goal);
       watch(g, act.goal);
     }
+    // What the metrics need: cues, disruption, contradiction, robot constraints.
+    const auto event = [&](const std::string& name) {
+      const int id = g.event_id(name);
+      if (id < 0) throw core::InputError(spec.acts[i].where.text, "a known event", "'" + name + "'");
+      return id;
+    };
+    if (a.cue) act.cue = CompiledCue{event(a.cue->at), a.cue->window.value(), a.cue->kind};
+    act.disruption = a.disruption;
+    if (a.contradicts) {
+      for (size_t j = 0; j < spec.acts.size(); ++j) {
+        if (spec.acts[j].name == *a.contradicts) act.contradicts = static_cast<int>(j);
+      }
+    }
+    if (!act.human) {
+      RobotConstraints& c = act.constraints;
+      c.after = act.after_event;
+      if (a.before) c.before = event(*a.before);
+      if (a.within) c.within = a.within->value();
+      if (a.sync) {
+        c.sync_with = event(a.sync->with);
+        c.sync_offset = a.sync->offset.value();
+        c.sync_tolerance = a.sync->tolerance.value();
+      }
+      if (a.still) {
+        c.still_from = event(a.still->from);
+        c.still_to = event(a.still->to);
+      }
+    }
   }
   for (const Pred& p : spec.success) {
     const int index = add_predicate(g, p);

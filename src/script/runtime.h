@@ -18,6 +18,7 @@
 // time of the step that observed it. The human never waits for the robot.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -37,6 +38,24 @@ struct CompiledPhase {
   int event = -1;       // event id of the phase's start, -1 for the unnamed onset wait
 };
 
+// A cue of a human act: the event the robot must respond to, and the window (METRICS.md Rsp).
+struct CompiledCue {
+  int event = -1;
+  double window = 0;     // s
+  std::string kind;      // go | stop | intrusion
+};
+
+// Constraints of a robot act, for the metrics (OC, Rsp, TSync); -1 = absent.
+struct RobotConstraints {
+  int after = -1;          // must start after this event
+  int before = -1;         // must end before this event
+  double within = -1;      // s after `after` to start; -1 = no window
+  int sync_with = -1;      // TSync: human event h
+  double sync_offset = 0;  // delta, s
+  double sync_tolerance = 0;  // tau, s
+  int still_from = -1, still_to = -1;  // must not move between these events
+};
+
 struct CompiledAct {
   std::string name;
   bool human = false;
@@ -48,6 +67,11 @@ struct CompiledAct {
   bool fails = false;
   std::vector<CompiledPhase> phases;
   int start_event = -1, end_event = -1, skipped_event = -1;
+  // For the metrics.
+  std::optional<CompiledCue> cue;      // human
+  bool disruption = false;             // human: DSR
+  int contradicts = -1;                // human: index of the contradicted robot act (CIR)
+  RobotConstraints constraints;        // robot
 };
 
 struct ActGraph {

@@ -130,6 +130,24 @@ TEST(RuntimeTest, ActsFireByTimeAfterDelayAndPredicate) {
   }
 }
 
+TEST(RuntimeTest, CompiledGraphCarriesWhatTheMetricsNeed) {
+  const ActGraph graph = compile_probe();
+  ASSERT_EQ(graph.acts.size(), 6U);
+  const CompiledAct& wave = graph.acts[0];
+  ASSERT_TRUE(wave.cue.has_value());
+  EXPECT_EQ(graph.event_names[static_cast<size_t>(wave.cue->event)], "wave.gesture");
+  EXPECT_EQ(wave.cue->window, 2.0);
+  EXPECT_EQ(wave.cue->kind, "go");
+  EXPECT_EQ(wave.hand, kRightHand);
+  const CompiledAct& move = graph.acts[5];
+  EXPECT_FALSE(move.human);
+  EXPECT_EQ(graph.event_names[static_cast<size_t>(move.constraints.after)], "wave.gesture");
+  EXPECT_EQ(move.constraints.before, -1);
+  EXPECT_EQ(graph.objects, (std::vector<std::string>{"cube", "plate"}));
+  ASSERT_EQ(graph.success.size(), 1U);
+  EXPECT_EQ(graph.predicates[static_cast<size_t>(graph.success[0])].source, "on(cube, plate)");
+}
+
 TEST(RuntimeTest, ResetReplaysIdentically) {
   const ActGraph graph = compile_probe();
   RuntimeState state = make_runtime(graph);
