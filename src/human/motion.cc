@@ -759,7 +759,8 @@ void build_point(PlanBuilder& b) {
   const Skeleton& k = b.skeleton();
   b.begin();
   const Vec3 S = b.shoulder_F(h);
-  const Vec3 dir = (b.point_F("target") - S).normalized();
+  const Vec3 to_target = b.point_F("target") - S;
+  const Vec3 dir = to_target.norm() > 1e-6 ? Vec3(to_target.normalized()) : Vec3::UnitX();
   const Quat rot = hand_rotation(h, dir, -Vec3::UnitZ() + medial(h));
   const double ext = b.num("extension") * b.reach(h);
   // Preparation: wrist onto the ray at half extension (elbow flexed); stroke: out along it.
