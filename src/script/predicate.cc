@@ -108,30 +108,20 @@ class PredicateParser {
     }
   }
 
-  Predicate parse_or(int depth) {
-    count_node(depth);
-    Predicate first = parse_and(depth + 1);
-    if (!is_word("or")) return first;
-    Predicate p;
-    p.atom = Atom::kOr;
-    p.children.push_back(std::move(first));
-    while (is_word("or")) {
-      next();
-      p.children.push_back(parse_and(depth + 1));
-    }
-    return p;
-  }
+  Predicate parse_or(int depth) { return parse_chain(depth, "or", Atom::kOr, &PredicateParser::parse_and); }
+  Predicate parse_and(int depth) { return parse_chain(depth, "and", Atom::kAnd, &PredicateParser::parse_unary); }
 
-  Predicate parse_and(int depth) {
+  // operand (WORD operand)*: one node with every operand as a child, or the single operand.
+  Predicate parse_chain(int depth, const char* word, Atom atom, Predicate (PredicateParser::*operand)(int)) {
     count_node(depth);
-    Predicate first = parse_unary(depth + 1);
-    if (!is_word("and")) return first;
+    Predicate first = (this->*operand)(depth + 1);
+    if (!is_word(word)) return first;
     Predicate p;
-    p.atom = Atom::kAnd;
+    p.atom = atom;
     p.children.push_back(std::move(first));
-    while (is_word("and")) {
+    while (is_word(word)) {
       next();
-      p.children.push_back(parse_unary(depth + 1));
+      p.children.push_back((this->*operand)(depth + 1));
     }
     return p;
   }
