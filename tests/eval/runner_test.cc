@@ -7,6 +7,7 @@
 
 #include "core/errors.h"
 #include "eval/metrics.h"
+#include "eval/parallel.h"
 #include "model/model.h"
 #include "policy/builtin.h"
 #include "sim/control.h"
@@ -130,6 +131,34 @@ TEST_F(RunnerTest, NoopEpisodeIsCompleteStillAndDeterministic) {
   const EpisodeLog again = run_episode(*model_, *data_, noop, driver, setup("noop"), options);
   EXPECT_TRUE(identical(log, again));
   EXPECT_TRUE(identical(decode_episode_log(encode_episode_log(log), "m"), log));
+}
+
+TEST_F(RunnerTest, OneAndTwoThreadsGiveIdenticalLogs) {
+  // Random policies (seeded per episode) so the episodes differ from each other.
+  const auto run_all = [&](int threads) {
+    std::vector<sim::Data> datas;
+    for (int w = 0; w < threads; ++w) datas.push_back(sim::make_data(*model_));
+    std::vector<EpisodeLog> logs(4);
+    run_jobs(
+        4, threads,
+        [&](size_t job, int worker) {
+          policy::RandomPolicy random(policy::ActionSpace::kEeDelta, 1, 0.3);
+          StandingHumanDriver driver;
+          RunOptions options;
+          options.horizon = 0.5;
+          EpisodeSetup s = setup("random");
+          s.seed = job;
+          logs[job] = run_episode(*model_, datas[static_cast<size_t>(worker)], random, driver, s, options);
+          return make_result(logs[job], compute_metrics(ScenarioContract{}, logs[job]));
+        },
+        nullptr);
+    for (const sim::Data& d : datas) ExpectNoWarnings(d.mj.get());
+    return logs;
+  };
+  const std::vector<EpisodeLog> one = run_all(1);
+  const std::vector<EpisodeLog> two = run_all(2);
+  for (size_t i = 0; i < one.size(); ++i) EXPECT_TRUE(identical(one[i], two[i])) << i;
+  EXPECT_FALSE(identical(one[0], one[1]));  // different seeds, different episodes
 }
 
 TEST_F(RunnerTest, BadActionEndsTheEpisodeAsPolicyError) {
