@@ -94,7 +94,8 @@ ArmSolution solve_arm(const Skeleton& skeleton, SkeletonPose& pose, Side side,
   const Vec3 d = target.wrist - S;
   double dist = d.norm();
   const Vec3 n = dist > 1e-9 ? Vec3(d / dist) : Vec3(R_torso * Vec3(0, 0, -1));
-  const double lo = std::abs(L1 - L2) + 0.01;
+  // Closest: the elbow flexed to 145 degrees (human limit 150).
+  const double lo = std::sqrt(L1 * L1 + L2 * L2 - 2 * L1 * L2 * std::cos(35 * kDeg));
   const double hi = 0.995 * (L1 + L2);
   if (dist > hi + 1e-9 || dist < lo - 1e-9) out.reachable = false;
   dist = std::clamp(dist, lo, hi);

@@ -49,8 +49,8 @@ struct ArmSolution {
 double arm_length(const Skeleton& skeleton, Side side);
 
 // Writes pose.local for the shoulder, elbow and wrist of `side` (the collar and everything
-// above it are read, not changed). The wrist target is clamped to a reach of
-// [|L1-L2| + 1 cm, 0.995 (L1+L2)]; the hand rotation is clamped to the wrist limits.
+// above it are read, not changed). The wrist target is clamped to a reach between an elbow
+// flexion of 145 degrees and 0.995 (L1+L2); the hand rotation is clamped to the wrist limits.
 ArmSolution solve_arm(const Skeleton& skeleton, SkeletonPose& pose, Side side,
                       const ArmTarget& target);
 

@@ -68,6 +68,16 @@ TEST(ArmIkTest, UnreachableTargetsMakeTheArmPointAtThem) {
   EXPECT_NEAR((W - S).norm(), 0.995 * arm_length(k, Side::kRight), 1e-9);
 }
 
+TEST(ArmIkTest, TargetsAtTheShoulderStopAtTheElbowLimit) {
+  const Skeleton k = Skeleton::FromHeight(1.70);
+  SkeletonPose pose = SkeletonPose::Standing(k, 0, 0, 0);
+  const Vec3 S = joint_position(k, pose, Joint::kLeftShoulder);
+  const ArmSolution sol = solve_arm(k, pose, Side::kLeft, {S + Vec3(0.05, 0, 0), 0.2, std::nullopt});
+  EXPECT_FALSE(sol.reachable);
+  EXPECT_NEAR(sol.elbow_flex, 145 * kDeg, 1e-9);
+  EXPECT_TRUE(check_joint_limits(pose).empty());
+}
+
 TEST(ArmIkTest, HandOrientationTargetsAreMet) {
   const Skeleton k = Skeleton::FromHeight(1.80);
   const SkeletonPose rest = SkeletonPose::Standing(k, 0, 0, 0);

@@ -471,6 +471,34 @@ TEST(MotionTest, SameParametersGiveIdenticalMotionAndTremorIsSeeded) {
   EXPECT_GT(stable.worst, 0.01);
 }
 
+TEST(MotionTest, RandomValidParametersGiveFiniteHumanPoses) {
+  core::Rng rng(2024);
+  for (const PrimitiveInfo& prim : primitive_catalog()) {
+    for (int draw = 0; draw < 6; ++draw) {
+      const Skeleton k = Skeleton::FromHeight(rng.uniform(1.55, 1.95));
+      PrimitiveParams p = example(std::string(prim.name), rng.uniform() < 0.5 ? "left" : "right");
+      p.seed = rng.next_u64();
+      for (const ParamInfo& info : prim.params) {
+        if (info.kind == ParamKind::kNumber && info.name != "onset") {
+          p.numbers[std::string(info.name)] = rng.uniform(info.min, std::min(info.max, std::max(info.min, 3.0)));
+        }
+      }
+      // Targets anywhere on the near half of the table, 0.78-1.3 m high.
+      for (auto& [name, point] : p.points) {
+        if (name != "to" && name != "hinge") point = Vec3(rng.uniform(0.9, 1.25), rng.uniform(-0.4, 0.4), rng.uniform(0.78, 1.3));
+      }
+      SCOPED_TRACE(std::string(prim.name) + " draw " + std::to_string(draw));
+      const LabelledClip lc = generate_clip(k, standing(k), p, 15);
+      for (const SkeletonPose& pose : lc.clip.frames) {
+        ASSERT_TRUE(pose.X_WP.translation.allFinite());
+        for (const core::Quat& q : pose.local) ASSERT_TRUE(q.coeffs().allFinite());
+      }
+      const CheckResult limits = check_clip_joint_limits(lc.clip);
+      EXPECT_TRUE(limits.ok) << limits.message;
+    }
+  }
+}
+
 TEST(MotionTest, BadParametersAreClearErrors) {
   const Skeleton k = Skeleton::FromHeight(1.75);
   const auto message = [&](const PrimitiveParams& p) {
