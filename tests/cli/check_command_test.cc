@@ -34,6 +34,21 @@ TEST(CheckCommandTest, PrintsEveryProblemAndFails) {
   EXPECT_EQ(r.output.find("stop_go.yaml: ok"), std::string::npos);  // -q
 }
 
+// --sample prints the drawn EpisodeSpec and its hash; the same seed gives the same bytes.
+TEST(CheckCommandTest, SamplePrintsTheSpecAndItsHash) {
+  const std::string args = "check -q tests/data/scripts/good/handover_h2r.yaml --sample 7";
+  const CommandResult a = run_hribench(args);
+  const CommandResult b = run_hribench(args);
+  EXPECT_EQ(a.exit_code, 0) << a.output;
+  EXPECT_EQ(a.output, b.output);
+  EXPECT_NE(a.output.find("\"task\": \"handover_h2r\""), std::string::npos) << a.output;
+  EXPECT_NE(a.output.find("\"seed\": 7"), std::string::npos);
+  const size_t hash = a.output.find("sha256 ");
+  ASSERT_NE(hash, std::string::npos);
+  EXPECT_EQ(a.output.size() - hash, 7 + 64 + 1U);
+  EXPECT_NE(run_hribench("check -q tests/data/scripts/good/handover_h2r.yaml --sample 8").output, a.output);
+}
+
 TEST(CheckCommandTest, NeedsAFile) {
   const CommandResult r = run_hribench("check");
   EXPECT_NE(r.exit_code, 0);
