@@ -34,6 +34,7 @@ bool contains(const std::vector<std::string>& v, const std::string& s) {
 struct ActInfo {
   std::string name;
   std::string path;                  // "acts.offer" or "variants.cancel.acts.wave"
+  std::string variant;               // "" for a top-level act
   const Act* act = nullptr;
   bool human = false;
   std::vector<std::string> phases;   // human: the primitive's phases (common to all choices)
@@ -61,7 +62,13 @@ class Validator {
     check_scene();
     check_human();
     collect_acts();
-    for (ActInfo& a : acts_) check_act(a);
+    // An act sees the top-level acts and those of its own variant; the rest of the script sees
+    // only the top-level acts (a variant's acts do not exist in the other variants' episodes).
+    for (ActInfo& a : acts_) {
+      scope_ = a.variant;
+      check_act(a);
+    }
+    scope_.clear();
     check_success();
     check_safety();
     check_instruction();
@@ -246,7 +253,7 @@ class Validator {
 
   // --- acts --------------------------------------------------------------------------------
   void collect_acts() {
-    for (const Entry<Act>& a : s_.acts) add_act(a.name, "acts." + a.name, &a.value);
+    for (const Entry<Act>& a : s_.acts) add_act(a.name, "acts." + a.name, &a.value, "");
     for (const Entry<Variant>& v : s_.variants) {
       for (const Entry<Act>& a : v.value.acts) {
         const std::string path = "variants." + v.name + ".acts." + a.name;
@@ -255,7 +262,7 @@ class Validator {
           problem(path, "an act name not used by the top-level acts", "'" + a.name + "' again");
           continue;
         }
-        add_act(a.name, path, &a.value);
+        add_act(a.name, path, &a.value, v.name);
       }
     }
     size_t node = 0;
@@ -269,8 +276,9 @@ class Validator {
     node_count_ = node;
   }
 
-  void add_act(const std::string& name, const std::string& path, const Act* act) {
+  void add_act(const std::string& name, const std::string& path, const Act* act, const std::string& variant) {
     ActInfo info;
+    info.variant = variant;
     info.name = name;
     info.path = path;
     info.act = act;
@@ -571,7 +579,16 @@ class Validator {
   }
 
   // --- events and the constraint graph -----------------------------------------------------
+  bool visible(const ActInfo& a) const { return a.variant.empty() || a.variant == scope_; }
+  // An act the current scope may refer to, or nullptr.
   const ActInfo* find_act(const std::string& name) const {
+    for (const ActInfo& a : acts_) {
+      if (a.name == name && visible(a)) return &a;
+    }
+    return nullptr;
+  }
+  // Any act of the script (the constraint graph spans every variant).
+  const ActInfo* find_any_act(const std::string& name) const {
     for (const ActInfo& a : acts_) {
       if (a.name == name) return &a;
     }
@@ -579,13 +596,15 @@ class Validator {
   }
   std::vector<std::string> act_names() const {
     std::vector<std::string> n;
-    for (const ActInfo& a : acts_) n.push_back(a.name);
+    for (const ActInfo& a : acts_) {
+      if (visible(a)) n.push_back(a.name);
+    }
     return n;
   }
   std::vector<std::string> robot_act_names() const {
     std::vector<std::string> n;
     for (const ActInfo& a : acts_) {
-      if (!a.human) n.push_back(a.name);
+      if (!a.human && visible(a)) n.push_back(a.name);
     }
     return n;
   }
@@ -756,7 +775,7 @@ class Validator {
   }
   std::optional<size_t> quiet_event(const std::string& text) const {
     const size_t dot = text.find('.');
-    const ActInfo* a = dot == std::string::npos ? nullptr : find_act(text.substr(0, dot));
+    const ActInfo* a = dot == std::string::npos ? nullptr : find_any_act(text.substr(0, dot));
     if (a == nullptr) return std::nullopt;
     const std::string what = text.substr(dot + 1);
     if (what == "start") return a->node;
@@ -892,6 +911,7 @@ class Validator {
   std::vector<Expr> var_defs_;
   std::vector<std::string> objects_;
   std::vector<ActInfo> acts_;
+  std::string scope_;  // the variant whose acts are visible besides the top-level ones
   size_t node_count_ = 0;
 };
 

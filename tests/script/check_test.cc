@@ -144,6 +144,22 @@ TEST(CheckTest, ConstraintGraph) {
   EXPECT_NE(all(p3).find("lid.open never comes after lid.close"), std::string::npos);
 }
 
+// A variant's acts exist only in its episodes: top-level acts and other variants cannot use them.
+TEST(CheckTest, VariantActsAreVisibleOnlyInTheirVariant) {
+  const std::string text =
+      "hribench: 1\ntask: t\nrole: collaborator\ninstruction: x\n"
+      "scene:\n  objects:\n    cube: {kind: cube}\n"
+      "acts:\n  take:\n    actor: robot\n    goal: grasped(robot, cube)\n    after: wave.end\n"
+      "variants:\n  a:\n    acts:\n      wave:\n        actor: human\n        motion: {primitive: go}\n"
+      "  b:\n    acts:\n      wait:\n        actor: robot\n        goal: still(robot)\n        after: wave.start\n"
+      "      ok:\n        actor: robot\n        goal: still(robot)\n        after: wait.end\n"
+      "success:\n  - grasped(robot, cube)\n";
+  const auto problems = check_text(text, "v.yaml");
+  ASSERT_EQ(problems.size(), 2U) << all(problems);
+  EXPECT_EQ(problems[0].text(), "v.yaml:12:12 (acts.take.after): expected an event ACT.start, ACT.end or ACT.PHASE (acts: take), got 'wave.end'");
+  EXPECT_EQ(problems[1].text(), "v.yaml:24:16 (variants.b.acts.wait.after): expected an event ACT.start, ACT.end or ACT.PHASE (acts: take, wait, ok), got 'wave.start'");
+}
+
 TEST(CheckTest, PredicatesWithVarsAreCheckedForEveryValue) {
   const std::string text =
       "hribench: 1\ntask: t\nrole: collaborator\ninstruction: x\nvars:\n  target: choice([cube, mug])\n"
