@@ -145,11 +145,8 @@ std::vector<std::optional<double>> detect_onsets(const ScenarioContract& contrac
 }
 
 void score_success(const Episode& e, EpisodeMetrics& m) {
-  const std::vector<bool> ok = required_series(e.log, e.contract.success_predicate);
-  if (ok.empty() || !ok.back()) return;
-  size_t first = ok.size() - 1;
-  while (first > 0 && ok[first - 1]) --first;
-  m.success_since = e.log.steps[first].time;
+  required_series(e.log, e.contract.success_predicate);  // throws if the log lacks it
+  m.success_since = final_run_start(e.log, *e.log.predicate_index(e.contract.success_predicate));
 }
 
 void score_cues(const Episode& e, EpisodeMetrics& m) {
@@ -426,6 +423,14 @@ void label_failures(const Episode& e, EpisodeMetrics& m) {
 }
 
 }  // namespace
+
+std::optional<double> final_run_start(const EpisodeLog& log, size_t index) {
+  const auto& steps = log.steps;
+  if (steps.empty() || !steps.back().predicates[index]) return std::nullopt;
+  size_t first = steps.size() - 1;
+  while (first > 0 && steps[first - 1].predicates[index]) --first;
+  return steps[first].time;
+}
 
 std::vector<std::optional<double>> robot_act_onsets(const ScenarioContract& contract,
                                                     const EpisodeLog& log,

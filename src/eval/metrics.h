@@ -91,6 +91,10 @@ std::vector<std::optional<double>> robot_act_onsets(const ScenarioContract& cont
                                                     const EpisodeLog& log,
                                                     const MetricConstants& c);
 
+// Time of the first step of the final unbroken run in which predicate series `index` is true,
+// or nullopt when it is false at the last step (or the log is empty).
+std::optional<double> final_run_start(const EpisodeLog& log, size_t index);
+
 // ISO/TS 15066 protective separation distance S_p (m) for closest-point approach speed v_r
 // (m/s, toward the human; negative values count as 0) at separation d (m).
 double protective_separation(double approach_speed, double separation, const MetricConstants& c);

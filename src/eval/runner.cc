@@ -11,6 +11,7 @@
 #include <mujoco/mujoco.h>
 
 #include "core/errors.h"
+#include "eval/metrics.h"
 #include "sim/contact.h"
 #include "sim/control.h"
 #include "sim/separation.h"
@@ -180,10 +181,9 @@ void apply_action(const model::Model& model, sim::Data& data, policy::ActionSpac
 // True once the "success" series (if any) has held for `hold` seconds up to the last step.
 bool success_held(const EpisodeLog& log, double hold, double eps) {
   const std::optional<size_t> index = log.predicate_index("success");
-  if (!index || log.steps.empty() || !log.steps.back().predicates[*index]) return false;
-  size_t first = log.steps.size() - 1;
-  while (first > 0 && log.steps[first - 1].predicates[*index]) --first;
-  return log.steps.back().time - log.steps[first].time >= hold - eps;
+  if (!index) return false;
+  const std::optional<double> since = final_run_start(log, *index);
+  return since && log.steps.back().time - *since >= hold - eps;
 }
 
 }  // namespace

@@ -174,6 +174,25 @@ TEST_F(RunnerTest, BadActionEndsTheEpisodeAsPolicyError) {
   EXPECT_EQ(*m.primary_label, FailureLabel::kPolicyError);
 }
 
+TEST_F(RunnerTest, EndsOnceSuccessHasHeldHalfASecond) {
+  // Success holds from t = 0.3 s on: the episode ends at 0.8 s, not at the horizon.
+  class SuccessDriver : public StandingHumanDriver {
+   public:
+    void observe(const model::Model&, const sim::Data& data, std::vector<uint8_t>& predicates,
+                 std::vector<Event>&) override {
+      predicates.assign(1, data.time() >= 0.3 - 1e-9 ? 1 : 0);
+    }
+  } driver;
+  policy::NoopPolicy noop;
+  RunOptions options;
+  options.horizon = 5.0;
+  const EpisodeLog log = run_episode(*model_, *data_, noop, driver, setup("noop"), options);
+  EXPECT_NEAR(log.steps.back().time, 0.8, 1e-9);
+  const EpisodeMetrics m = compute_metrics(ScenarioContract{}, log);
+  EXPECT_TRUE(m.success);
+  EXPECT_NEAR(m.completion_time, 0.3, 1e-9);
+}
+
 TEST_F(RunnerTest, CamerasAreRefusedUntilRenderingIsWired) {
   class CameraPolicy : public policy::NoopPolicy {
    public:
