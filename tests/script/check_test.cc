@@ -9,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "script/runtime.h"
 #include "script/sample.h"
+#include "script/schema_io.h"
 
 namespace hribench::script {
 namespace {
@@ -93,6 +95,32 @@ TEST(CheckTest, BadCorpusGivesTheExpectedProblems) {
       EXPECT_TRUE(!rest.empty() && std::isdigit(static_cast<unsigned char>(rest[0]))) << p.text();
       EXPECT_NE(rest.find(':'), std::string::npos) << p.text();
     }
+  }
+}
+
+// Every prefix of a good script (a truncated file) and single-byte corruptions are checked
+// without crashing; whatever comes out clean also samples and compiles.
+TEST(CheckTest, TruncatedAndCorruptedScriptsNeverCrash) {
+  for (const std::string& file : files_in("tests/data/scripts/good", ".yaml")) {
+    std::ifstream in(file);
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string good = text.str();
+    for (size_t cut = 0; cut < good.size(); cut += 23) {
+      EXPECT_FALSE(check_text(good.substr(0, cut), "cut.yaml").empty());  // success comes last
+    }
+    size_t clean = 0;
+    for (size_t at = 0; at < good.size(); at += 31) {
+      for (const char c : {'\t', '[', ':', '"', '\xff', '9', '$', '('}) {
+        std::string bad = good;
+        bad[at] = c;
+        if (!check_text(bad, "bad.yaml").empty()) continue;
+        ++clean;  // e.g. a digit changed: must sample and compile
+        std::vector<core::InputError> errors;
+        EXPECT_NO_THROW(compile(sample(parse_scenario(bad, "bad.yaml", errors), 1))) << bad;
+      }
+    }
+    EXPECT_GT(clean, 0U) << file;
   }
 }
 
