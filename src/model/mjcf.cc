@@ -24,11 +24,12 @@ std::string rgba(const Rgba& c) {
                      static_cast<double>(c.g), static_cast<double>(c.b), static_cast<double>(c.a));
 }
 
-std::string camera_xyaxes(const core::Vec3& pos, const core::Vec3& target) {
+std::string camera_xyaxes(const core::Vec3& pos, const core::Vec3& target,
+                          const core::Vec3& up_hint) {
   // MuJoCo cameras look along -z with y up in the image; x is image right.
   const core::Vec3 forward = (target - pos).normalized();
-  core::Vec3 right = forward.cross(core::Vec3::UnitZ());
-  if (right.norm() < 1e-6) right = core::Vec3::UnitY().cross(forward);  // looking straight down
+  core::Vec3 right = forward.cross(up_hint);
+  if (right.norm() < 1e-6) right = forward.unitOrthogonal();  // looking along `up`
   right.normalize();
   const core::Vec3 up = right.cross(forward);
   return vec(right) + " " + vec(up);

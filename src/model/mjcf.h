@@ -23,8 +23,10 @@ std::string num(double v);
 std::string vec(const core::Vec3& v);
 std::string quat(const core::Quat& q);  // "w x y z"
 std::string rgba(const Rgba& c);
-// xyaxes="..." for a camera at `pos` looking at `target`, with image x as horizontal as possible.
-std::string camera_xyaxes(const core::Vec3& pos, const core::Vec3& target);
+// xyaxes="..." for a camera at `pos` looking at `target`, with image x perpendicular to `up`
+// (image up as close to `up` as possible). All in the parent body's frame.
+std::string camera_xyaxes(const core::Vec3& pos, const core::Vec3& target,
+                          const core::Vec3& up = core::Vec3::UnitZ());
 
 // Volume-weighted mass split: fills masses[i] for shapes with volumes[i] so they sum to total.
 // Geom shapes for links: capsule (fromto + radius) and box (centre + half sizes).

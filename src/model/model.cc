@@ -279,9 +279,14 @@ Generated generate(const SceneSpec& spec) {
     // Human hands pass through objects (a held object sits against the palm); other human
     // parts collide with objects.
     if (h.present) {
-      for (const auto side : {human::Side::kLeft, human::Side::kRight})
-        contact += fmt::format(R"(<exclude body1="human_{}" body2="object_{}"/>)",
-                               human::joint_name(human::wrist(side)), o.name) + "\n";
+      for (const auto side : {human::Side::kLeft, human::Side::kRight}) {
+        const auto wrist = human::joint_name(human::wrist(side));
+        contact += fmt::format(R"(<exclude body1="human_{}" body2="object_{}"/>)", wrist, o.name);
+        if (g.resolved.kinds[i] == ObjectKind::kBox)
+          contact += fmt::format(R"(<exclude body1="human_{}" body2="object_{}_lid"/>)", wrist,
+                                 o.name);
+        contact += "\n";
+      }
     }
   }
   if (h.present) mjcf::human_body(g.skeleton, g.capsules, g.human_start, g.X_wrist_palm, world);

@@ -61,6 +61,8 @@ struct ObjectSpec {
   // Scale of the object's nominal dimensions, in [0.5, 2] (1 = nominal sizes; see
   // ObjectInfo::half_extents).
   double size_scale = 1.0;
+  // Human hands (the wrist bodies' capsules) never collide with objects (nor box lids); the
+  // other human capsules do.
   // If set, the object starts in this human hand (held, see sim::hold) instead of on the table.
   std::optional<human::Side> held_by;
 };

@@ -119,9 +119,11 @@ void panda(std::string& defaults, std::string& worldbody, std::string& tendon,
   worldbody += fmt::format(R"(<site name="tcp" pos="0 0 {}" size="0.005" rgba="0 1 0 0"/>)",
                            num(kTcpOffset));
   worldbody += "\n";
-  const Vec3 cam_pos(0.06, 0, 0.0);
+  // Wrist camera: beside the hand housing (+x side), looking along the fingers; image up is
+  // the hand's +x, so the fingers appear in the lower half of the image.
+  const Vec3 cam_pos(0.05, 0, 0.05);
   worldbody += fmt::format(R"(<camera name="wrist" pos="{}" xyaxes="{}" fovy="75"/>)",
-                           vec(cam_pos), camera_xyaxes(cam_pos, Vec3(0, 0, 0.16)));
+                           vec(cam_pos), camera_xyaxes(cam_pos, Vec3(0, 0, 0.2), Vec3::UnitX()));
   worldbody += "\n";
   finger(+1, worldbody);
   finger(-1, worldbody);

@@ -35,6 +35,8 @@ using MjDataPtr = std::unique_ptr<mjData, MjDataDeleter>;
 struct HoldState {
   int object = -1;         // object index in Model::objects, or -1 when the hand is empty
   core::Pose X_palm_obj;   // pose of the object body in the palm frame, fixed at grasp time
+  bool lid = false;        // holding the lid of a box (object) by one point, not the object
+  core::Vec3 p_lid_grasp = core::Vec3::Zero();  // lid only: grasped point in the lid frame
   bool has_last_target = false;
   core::Pose X_W_last_target;  // target pose of the object at the previous step (for velocity)
 };

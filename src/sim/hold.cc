@@ -6,6 +6,44 @@ namespace hribench::sim {
 namespace {
 
 constexpr double kHoldFrequency = 2 * core::kPi * 12;  // rad/s, critically damped
+constexpr double kLidForceMax = 3.0;  // N, spring force limit of a lid hold
+
+// Lid hold: a point spring-damper from the grasped lid point to the palm centre, on the lid's
+// effective mass at its free edge (a plate hinged at one edge: m / 3), plus the lid's weight.
+// The lid's state is that of the last forward pass (one step old).
+void apply_lid_wrench(const model::Model& model, Data& data, HoldState& h,
+                      const model::ObjectInfo& o, const core::Vec3& target) {
+  const mjModel* m = model.m();
+  mjData* d = data.mj.get();
+  const int lid = o.lid_body;
+  const double dt = m->opt.timestep;
+  core::Vec3 v_target = core::Vec3::Zero();
+  if (h.has_last_target) v_target = (target - h.X_W_last_target.translation) / dt;
+  h.X_W_last_target.translation = target;
+  h.has_last_target = true;
+  const core::Vec3 origin(d->xpos[3 * lid], d->xpos[3 * lid + 1], d->xpos[3 * lid + 2]);
+  const core::Quat r = core::quat_from_wxyz(d->xquat + 4 * lid).normalized();
+  const core::Vec3 point = origin + r * h.p_lid_grasp;
+  // Velocity of the grasped point (world frame, from cvel).
+  mjtNum vel[6];
+  mj_objectVelocity(m, d, mjOBJ_BODY, lid, vel, 0);
+  const core::Vec3 w(vel[0], vel[1], vel[2]);
+  const core::Vec3 v_point = core::Vec3(vel[3], vel[4], vel[5]) + w.cross(point - origin);
+  const double mass = m->body_mass[lid];
+  const double k = kHoldFrequency;
+  core::Vec3 spring = mass / 3 * (k * k * (target - point) + 2 * k * (v_target - v_point));
+  // A hand out of the lid's reach pulls with at most kLidForceMax, not enough to drag the box.
+  if (spring.norm() > kLidForceMax) spring *= kLidForceMax / spring.norm();
+  const core::Vec3 gravity(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
+  const core::Vec3 com(d->xipos[3 * lid], d->xipos[3 * lid + 1], d->xipos[3 * lid + 2]);
+  const core::Vec3 force = spring - mass * gravity;
+  const core::Vec3 torque = (point - com).cross(spring);
+  mjtNum* xfrc = d->xfrc_applied + 6 * lid;
+  for (int i = 0; i < 3; ++i) {
+    xfrc[i] = force[i];
+    xfrc[3 + i] = torque[i];
+  }
+}
 
 }  // namespace
 
@@ -23,7 +61,7 @@ void grasp_by_human(const model::Model& model, Data& data, human::Side side, int
       << "object index " << object;
   release_by_human(model, data, side);
   for (HoldState& other : data.hold)  // an object is held by one hand at a time
-    if (other.object == object) other = HoldState{};
+    if (other.object == object && !other.lid) other = HoldState{};
   HoldState& h = data.hold[static_cast<size_t>(side)];
   h.object = object;
   h.X_palm_obj = X_palm_obj;
@@ -41,11 +79,38 @@ void grasp_by_human(const model::Model& model, Data& data, human::Side side, int
   grasp_by_human(model, data, side, object, palm_pose(model, data, side).inverse() * X_WO);
 }
 
+void grasp_lid_by_human(const model::Model& model, Data& data, human::Side side, int object) {
+  HRIB_CHECK(model.has_human) << "grasp_lid_by_human without a human";
+  HRIB_CHECK(object >= 0 && static_cast<size_t>(object) < model.objects.size())
+      << "object index " << object;
+  const model::ObjectInfo& o = model.objects[static_cast<size_t>(object)];
+  HRIB_CHECK(o.lid_body >= 0) << "object " << o.name << " has no lid";
+  release_by_human(model, data, side);
+  // Nearest point of the lid (its box geom, in the lid frame) to the palm centre, from the
+  // current state.
+  forward(model, data);
+  const mjModel* m = model.m();
+  const mjData* d = data.mj.get();
+  const int lid = o.lid_body;
+  core::Pose X_WL;
+  X_WL.translation = core::Vec3(d->xpos[3 * lid], d->xpos[3 * lid + 1], d->xpos[3 * lid + 2]);
+  X_WL.rotation = core::quat_from_wxyz(d->xquat + 4 * lid).normalized();
+  const core::Vec3 palm_L = X_WL.inverse() * palm_pose(model, data, side).translation;
+  const int geom = m->body_geomadr[lid];
+  const core::Vec3 centre(m->geom_pos[3 * geom], m->geom_pos[3 * geom + 1], m->geom_pos[3 * geom + 2]);
+  const core::Vec3 half(m->geom_size[3 * geom], m->geom_size[3 * geom + 1], m->geom_size[3 * geom + 2]);
+  HoldState& h = data.hold[static_cast<size_t>(side)];
+  h.object = object;
+  h.lid = true;
+  h.p_lid_grasp = centre + (palm_L - centre).cwiseMax(-half).cwiseMin(half);
+  h.has_last_target = false;
+}
+
 void release_by_human(const model::Model& model, Data& data, human::Side side) {
   HoldState& h = data.hold[static_cast<size_t>(side)];
   if (h.object >= 0) {
-    const int body = model.objects[static_cast<size_t>(h.object)].body;
-    mju_zero(data.mj->xfrc_applied + 6 * body, 6);
+    const model::ObjectInfo& o = model.objects[static_cast<size_t>(h.object)];
+    mju_zero(data.mj->xfrc_applied + 6 * (h.lid ? o.lid_body : o.body), 6);
   }
   h = HoldState{};
 }
@@ -65,6 +130,10 @@ void apply_hold_wrenches(const model::Model& model, Data& data) {
     HoldState& h = data.hold[static_cast<size_t>(side)];
     if (h.object < 0) continue;
     const model::ObjectInfo& o = model.objects[static_cast<size_t>(h.object)];
+    if (h.lid) {
+      apply_lid_wrench(model, data, h, o, palm_pose(model, data, side).translation);
+      continue;
+    }
     const int body = o.body;
     const core::Pose X_WT = palm_pose(model, data, side) * h.X_palm_obj;
     // Target velocity from the palm's motion since the last step (feed-forward).

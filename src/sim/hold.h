@@ -30,6 +30,12 @@ void grasp_by_human(const model::Model& model, Data& data, human::Side side, int
 // model.objects[i].X_palm_hold).
 void grasp_by_human(const model::Model& model, Data& data, human::Side side, int object,
                     const core::Pose& X_palm_obj);
+// Holds the lid of box `object` (a kBox) at the point of the lid nearest to the palm centre
+// now: a 3-D spring-damper pulls that point of the lid toward the palm centre (the hinge
+// decides the lid's orientation), plus the lid's weight; the spring force is limited to 3 N
+// (about 4x the lid's weight) so a hand that leaves the lid's arc cannot drag the box. The
+// hand should follow the lid's arc (lift the free edge); lifting the hand opens the lid.
+void grasp_lid_by_human(const model::Model& model, Data& data, human::Side side, int object);
 // Lets go: the object is free again (it falls unless something supports it).
 void release_by_human(const model::Model& model, Data& data, human::Side side);
 // Object index held by that hand, or nullopt.

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "human/arm_ik.h"
 #include "model/model.h"
 #include "sim/data.h"
 #include "support/mujoco_fixture.h"
@@ -113,6 +114,67 @@ TEST_F(HoldTest, GraspCapturesTheCurrentRelativePose) {
   grasp_by_human(model, data, human::Side::kRight, cube);
   EXPECT_EQ(held_object(data, human::Side::kLeft), std::nullopt);
   EXPECT_EQ(held_object(data, human::Side::kRight), cube);
+  ExpectNoWarnings(data.mj.get());
+}
+
+TEST_F(HoldTest, AHandLiftsABoxLidAndLetsItClose) {
+  model::SceneSpec spec;
+  model::ObjectSpec box;
+  box.kind = "box";
+  box.name = "box";
+  box.x = 0.9;
+  spec.objects.push_back(box);
+  spec.human.x = 1.2;
+  const model::Model model = model::build(spec);
+  Data data = make_data(model);
+  const model::ObjectInfo& info = model.objects[0];
+  const int hinge_q = model.m()->jnt_qposadr[info.lid_joint];
+  const auto lid_angle = [&] { return data.mj->qpos[hinge_q]; };
+  // The lid's free edge (centre) at opening angle a: hinge at the top of the +x wall, lid
+  // length 2 hx; opening rotates about +y.
+  const double hx = info.half_extents.x();
+  const Vec3 hinge = info.X_W_start.translation + Vec3(hx, 0, 0.12 + 0.008);
+  const auto edge = [&](double a) -> Vec3 { return hinge + Vec3(-2 * hx * std::cos(a), 0, 2 * hx * std::sin(a)); };
+  // Puts the right palm centre at p (arm IK; a few corrections for the wrist-palm offset).
+  const auto hand_at = [&](const Vec3& p) {
+    human::SkeletonPose pose = model.human_start;
+    const double lean = human::lean_for_reach(model.skeleton, pose, human::Side::kRight, p, 0.85, 0.8,
+                                              Vec3::UnitX());
+    human::lean_spine(model.skeleton, pose, Vec3::UnitX(), lean);
+    Vec3 wrist_target = p;
+    for (int k = 0; k < 4; ++k) {
+      human::ArmTarget target;
+      target.wrist = wrist_target;
+      human::solve_arm(model.skeleton, pose, human::Side::kRight, target);
+      const auto X = human::forward_kinematics(model.skeleton, pose);
+      const Vec3 palm = human::palm_centre(model.skeleton, X[static_cast<size_t>(human::index(human::Joint::kRightWrist))]);
+      wrist_target += p - palm;
+    }
+    return pose;
+  };
+  // Reach to the closed lid's edge, take it, lift it along its arc to 80 degrees.
+  const human::SkeletonPose from = model.human_start;
+  const human::SkeletonPose grasp = hand_at(edge(0.02));
+  for (int i = 1; i <= 500; ++i) {
+    set_human_pose(model, data, blend(from, grasp, i / 500.0));
+    step(model, data);
+  }
+  ASSERT_LT((palm_pose(model, data, human::Side::kRight).translation - edge(0.02)).norm(), 0.02);
+  grasp_lid_by_human(model, data, human::Side::kRight, 0);
+  EXPECT_EQ(held_object(data, human::Side::kRight), 0);
+  const double open = core::deg_to_rad(70);
+  for (int i = 1; i <= 750; ++i) {
+    set_human_pose(model, data, hand_at(edge(0.02 + (open - 0.02) * i / 750.0)));
+    step(model, data);
+  }
+  for (int i = 0; i < 250; ++i) step(model, data);
+  EXPECT_NEAR(lid_angle(), open, 0.15);
+  // The box itself stays on the table.
+  const Pose box_pose = object_pose(model, data, 0);
+  EXPECT_LT((box_pose.translation - info.X_W_start.translation).norm(), 0.01);
+  release_by_human(model, data, human::Side::kRight);
+  for (int i = 0; i < 1000; ++i) step(model, data);
+  EXPECT_LT(lid_angle(), 0.05);
   ExpectNoWarnings(data.mj.get());
 }
 
