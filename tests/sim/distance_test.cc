@@ -293,9 +293,38 @@ void ExpectDeepestSampledPoint(const ClosestPoints& c, const Capsule& cap, const
   EXPECT_GE(c.distance, deepest - 1e-3) << "trial " << trial;
 }
 
-// Brute force: sampled segment points against sampled surface points. For separated shapes
-// the sampled minimum over-estimates the true distance, so the analytic value must be <= it
-// and close to it.
+// Checks closest_points(cap, solid) against brute force and counts the case it fell in.
+// Apart: sampled axis points against sampled surface points (`for_surface` visits them); the
+// sampled minimum over-estimates the true distance, so the analytic value must be <= it and
+// close to it, and the returned points lie on the two surfaces. Penetrating: see
+// ExpectDeepestSampledPoint.
+template <typename Solid, typename Surface>
+void ExpectMatchesSampling(const Capsule& cap, const Solid& solid, Surface&& for_surface,
+                           int trial, int* apart, int* penetrating) {
+  const ClosestPoints c = closest_points(cap, solid);
+  ExpectConsistent(c);
+  if (c.distance <= 0) {
+    ++*penetrating;
+    ExpectDeepestSampledPoint(c, cap, solid, trial);
+    return;
+  }
+  ++*apart;
+  const Vec3& p0 = cap.axis.p0_W;
+  const Vec3& p1 = cap.axis.p1_W;
+  double sampled = std::numeric_limits<double>::infinity();
+  constexpr int kSeg = 60;
+  for_surface([&](const Vec3& q) {
+    for (int i = 0; i <= kSeg; ++i) {
+      const Vec3 p = p0 + (static_cast<double>(i) / kSeg) * (p1 - p0);
+      sampled = std::min(sampled, (p - q).norm() - cap.radius);
+    }
+  });
+  EXPECT_LE(c.distance, sampled + 1e-9) << "trial " << trial;
+  EXPECT_GE(c.distance, sampled - 0.02) << "trial " << trial;
+  EXPECT_NEAR(closest_points(c.point_b_W, solid).distance, 0.0, 1e-9);
+  EXPECT_NEAR(closest_points(c.point_a_W, cap.axis).distance, cap.radius, 1e-9);
+}
+
 TEST(CapsuleBox, MatchesSurfaceSamplingOnRandomConfigurations) {
   core::Rng rng(11);
   int checked = 0;
@@ -312,27 +341,9 @@ TEST(CapsuleBox, MatchesSurfaceSamplingOnRandomConfigurations) {
                                                               rng.uniform(-1, 1),
                                                               rng.uniform(-1, 1)));
     const Capsule cap{{p0, p1}, 0.03};
-    const ClosestPoints c = closest_points(cap, box);
-    ExpectConsistent(c);
-    if (c.distance <= 0) {
-      ++penetrating;
-      ExpectDeepestSampledPoint(c, cap, box, trial);
-      continue;
-    }
-    ++checked;
-    double sampled = std::numeric_limits<double>::infinity();
-    constexpr int kSeg = 60;
-    ForBoxSurface(box, 24, [&](const Vec3& q) {
-      for (int i = 0; i <= kSeg; ++i) {
-        const Vec3 p = p0 + (static_cast<double>(i) / kSeg) * (p1 - p0);
-        sampled = std::min(sampled, (p - q).norm() - cap.radius);
-      }
-    });
-    EXPECT_LE(c.distance, sampled + 1e-12) << "trial " << trial;
-    EXPECT_GE(c.distance, sampled - 0.02) << "trial " << trial;
-    // The box point lies on the box surface, the capsule point on the capsule surface.
-    EXPECT_NEAR(closest_points(c.point_b_W, box).distance, 0.0, 1e-9);
-    EXPECT_NEAR(closest_points(c.point_a_W, cap.axis).distance, cap.radius, 1e-9);
+    ExpectMatchesSampling(
+        cap, box, [&](auto&& visit) { ForBoxSurface(box, 24, visit); }, trial, &checked,
+        &penetrating);
   }
   EXPECT_GT(checked, 30);
   EXPECT_GT(penetrating, 10);
@@ -397,25 +408,9 @@ TEST(Cylinder, CapsuleMatchesSurfaceSampling) {
     const Vec3 p1 =
         p0 + 0.5 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
     const Capsule cap{{p0, p1}, 0.02};
-    const ClosestPoints c = closest_points(cap, cyl);
-    ExpectConsistent(c);
-    if (c.distance <= 0) {
-      ++penetrating;
-      ExpectDeepestSampledPoint(c, cap, cyl, trial);
-      continue;
-    }
-    ++checked;
-    double sampled = std::numeric_limits<double>::infinity();
-    constexpr int kSeg = 60;
-    ForCylinderSurface(cyl, 24, [&](const Vec3& q) {
-      for (int i = 0; i <= kSeg; ++i) {
-        const Vec3 p = p0 + (static_cast<double>(i) / kSeg) * (p1 - p0);
-        sampled = std::min(sampled, (p - q).norm() - cap.radius);
-      }
-    });
-    EXPECT_LE(c.distance, sampled + 1e-9) << "trial " << trial;
-    EXPECT_GE(c.distance, sampled - 0.02) << "trial " << trial;
-    EXPECT_NEAR(closest_points(c.point_b_W, cyl).distance, 0.0, 1e-9);
+    ExpectMatchesSampling(
+        cap, cyl, [&](auto&& visit) { ForCylinderSurface(cyl, 24, visit); }, trial, &checked,
+        &penetrating);
   }
   EXPECT_GT(checked, 20);
   EXPECT_GT(penetrating, 10);
