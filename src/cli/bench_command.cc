@@ -352,7 +352,8 @@ int run_bench(const BenchOptions& o) {
                 p.cost_ratio);
   }
   if (!renders.empty()) {
-    std::printf("\n%-22s %14s %14s %12s %14s\n", "render", "ours fps", "raw fps", "", "cost ours/raw");
+    std::printf("\n%-22s %14s %14s %12s %14s\n", "render", "ours fps", "raw fps", "",
+                "cost ours/raw");
     for (const RenderResult& r : renders) {
       std::printf("%-22s %14.1f %14.1f %12s %14.3f\n",
                   (r.camera + " " + std::to_string(r.size) + "x" + std::to_string(r.size)).c_str(),

@@ -40,6 +40,17 @@ int scene_capacity(const mjModel& m) {
   return m.ngeom + m.nsite + 16 * m.ntendon + m.nbody + m.nlight + 100;
 }
 
+// The model's fixed camera `camera_id` as an mjvCamera.
+mjvCamera fixed_camera(const mjModel& m, int camera_id) {
+  HRIB_CHECK(camera_id >= 0 && camera_id < m.ncam) << "camera id " << camera_id << " of "
+                                                   << m.ncam;
+  mjvCamera camera;
+  mjv_defaultCamera(&camera);
+  camera.type = mjCAMERA_FIXED;
+  camera.fixedcamid = camera_id;
+  return camera;
+}
+
 // GL rows run bottom-up; images run top-down.
 template <typename T>
 void flip_rows(T* data, int width, int height, int channels) {
@@ -124,13 +135,7 @@ void Renderer::draw(const mjModel& m, const mjData& d, const mjvCamera& camera) 
 }
 
 bool Renderer::render(const mjModel& m, const mjData& d, int camera_id, Image& out) {
-  HRIB_CHECK(camera_id >= 0 && camera_id < m.ncam) << "camera id " << camera_id << " of "
-                                                   << m.ncam;
-  mjvCamera camera;
-  mjv_defaultCamera(&camera);
-  camera.type = mjCAMERA_FIXED;
-  camera.fixedcamid = camera_id;
-  return render(m, d, camera, out);
+  return render(m, d, fixed_camera(m, camera_id), out);
 }
 
 bool Renderer::render(const mjModel& m, const mjData& d, const mjvCamera& camera, Image& out) {
@@ -151,12 +156,7 @@ bool Renderer::render_segmentation(const mjModel& m, const mjData& d, int camera
     out.resize(0, 0);
     return false;
   }
-  HRIB_CHECK(camera_id >= 0 && camera_id < m.ncam) << "camera id " << camera_id << " of "
-                                                   << m.ncam;
-  mjvCamera camera;
-  mjv_defaultCamera(&camera);
-  camera.type = mjCAMERA_FIXED;
-  camera.fixedcamid = camera_id;
+  const mjvCamera camera = fixed_camera(m, camera_id);
   // Each scene geom is drawn in the flat colour segid + 1 (background 0).
   scene_.flags[mjRND_SEGMENT] = 1;
   scene_.flags[mjRND_IDCOLOR] = 1;
@@ -204,7 +204,8 @@ int camera_id(const mjModel& m, std::string_view name, std::string_view where) {
     const char* n = mj_id2name(&m, mjOBJ_CAMERA, i);
     names += (i > 0 ? ", " : "") + std::string(n != nullptr ? n : "#" + std::to_string(i));
   }
-  throw core::InputError(std::string(where), m.ncam > 0 ? "one of " + names : "a camera (the model has none)",
+  throw core::InputError(std::string(where),
+                         m.ncam > 0 ? "one of " + names : "a camera (the model has none)",
                          "'" + std::string(name) + "'");
 }
 

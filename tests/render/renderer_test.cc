@@ -201,24 +201,36 @@ TEST_F(RendererTest, NoneBackendNeverLoadsGl) {
 
 // The acceptance check of the foundation: the default scene's agentview shows the robot and the
 // human, counted by segmentation through the Model's geom tags (not by eye).
-class DefaultSceneTest : public ::hribench::testing::MujocoTest {};
+class DefaultSceneTest : public ::hribench::testing::MujocoTest {
+ protected:
+  void SetUp() override {
+    MujocoTest::SetUp();
+    Watch(data_.mj.get());
+  }
+  // Segmentation of `camera` at width x height, by geom owner.
+  std::vector<model::GeomTag> seen_tags(int camera, int width, int height) {
+    auto renderer = make_renderer(Backend::kOsmesa, *model_.m(), width, height);
+    SegmentationImage segmentation;
+    EXPECT_TRUE(renderer->render_segmentation(*model_.m(), *data_.mj, camera, segmentation));
+    std::vector<model::GeomTag> tags;
+    for (int g : segmentation.geom) {
+      if (g < 0) continue;
+      EXPECT_LT(g, model_.m()->ngeom);
+      tags.push_back(model_.geom_tags[static_cast<size_t>(g)]);
+    }
+    return tags;
+  }
+
+  const model::Model model_ = model::build(model::SceneSpec::Default());
+  sim::Data data_ = sim::make_data(model_);
+};
 
 TEST_F(DefaultSceneTest, AgentviewShowsRobotHumanTableAndObjects) {
-  const model::Model model = model::build(model::SceneSpec::Default());
-  sim::Data data = sim::make_data(model);
-  Watch(data.mj.get());
-  auto renderer = make_renderer(Backend::kOsmesa, *model.m(), 96, 72);
-  SegmentationImage segmentation;
-  ASSERT_TRUE(renderer->render_segmentation(*model.m(), *data.mj, model.agentview_camera,
-                                            segmentation));
   int robot = 0;
   int human = 0;
   int table = 0;
   int objects = 0;
-  for (int g : segmentation.geom) {
-    if (g < 0) continue;
-    ASSERT_LT(g, model.m()->ngeom);
-    const model::GeomTag& tag = model.geom_tags[static_cast<size_t>(g)];
+  for (const model::GeomTag& tag : seen_tags(model_.agentview_camera, 96, 72)) {
     robot += tag.is_robot() ? 1 : 0;
     human += tag.is_human() ? 1 : 0;
     table += tag.owner == model::GeomOwner::kTable ? 1 : 0;
@@ -232,11 +244,13 @@ TEST_F(DefaultSceneTest, AgentviewShowsRobotHumanTableAndObjects) {
 
   // The colour image of the same view is not blank: it has many distinct colours.
   Image image;
-  ASSERT_TRUE(renderer->render(*model.m(), *data.mj, model.agentview_camera, image));
+  ASSERT_TRUE(make_renderer(Backend::kOsmesa, *model_.m(), 96, 72)
+                  ->render(model_, data_, model_.agentview_camera, image));
   std::vector<bool> seen(1 << 12, false);
   int distinct = 0;
   for (size_t i = 0; i < image.rgb.size(); i += 3) {
-    const int key = (image.rgb[i] >> 4) << 8 | (image.rgb[i + 1] >> 4) << 4 | image.rgb[i + 2] >> 4;
+    const int key =
+        ((image.rgb[i] >> 4) << 8) | ((image.rgb[i + 1] >> 4) << 4) | (image.rgb[i + 2] >> 4);
     distinct += seen[static_cast<size_t>(key)] ? 0 : 1;
     seen[static_cast<size_t>(key)] = true;
   }
@@ -245,9 +259,8 @@ TEST_F(DefaultSceneTest, AgentviewShowsRobotHumanTableAndObjects) {
 
 TEST_F(DefaultSceneTest, ThreadsRenderWithTheirOwnRenderers) {
   // One Renderer per thread on a shared Model (DESIGN.md §8): same state, same pixels.
-  const model::Model model = model::build(model::SceneSpec::Default());
-  sim::Data data = sim::make_data(model);
-  Watch(data.mj.get());
+  const model::Model& model = model_;
+  const sim::Data& data = data_;
   Image reference;
   make_renderer(Backend::kOsmesa, *model.m(), 48, 32)->render(model, data, model.agentview_camera,
                                                               reference);
@@ -264,18 +277,9 @@ TEST_F(DefaultSceneTest, ThreadsRenderWithTheirOwnRenderers) {
 }
 
 TEST_F(DefaultSceneTest, WristCameraSeesTheFingers) {
-  const model::Model model = model::build(model::SceneSpec::Default());
-  sim::Data data = sim::make_data(model);
-  Watch(data.mj.get());
-  auto renderer = make_renderer(Backend::kOsmesa, *model.m(), 64, 48);
-  SegmentationImage segmentation;
-  ASSERT_TRUE(renderer->render_segmentation(*model.m(), *data.mj, model.wrist_camera,
-                                            segmentation));
   int fingers = 0;
-  for (int g : segmentation.geom) {
-    if (g >= 0 && model.geom_tags[static_cast<size_t>(g)].owner == model::GeomOwner::kRobotFinger) {
-      ++fingers;
-    }
+  for (const model::GeomTag& tag : seen_tags(model_.wrist_camera, 64, 48)) {
+    fingers += tag.owner == model::GeomOwner::kRobotFinger ? 1 : 0;
   }
   EXPECT_GT(fingers, 0);
 }
