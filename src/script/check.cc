@@ -555,13 +555,16 @@ class Validator {
     event(l.during, path + ".during");
     const int checks = (l.in ? 1 : 0) + (l.through ? 1 : 0) + (l.crosses ? 1 : 0);
     if (checks != 1) problem(path, "exactly one of in, through, crosses", std::to_string(checks));
-    const std::vector<std::string> joints = {"shoulder", "elbow", "wrist", "hand", "index", "palm"};
-    std::vector<std::string> sided;
+    // Hand points the human layer's label checks follow (human/labels.h), and its pointing ray.
+    std::vector<std::string> points;
     for (const char* side : {"left.", "right."}) {
-      for (const std::string& j : joints) sided.push_back(side + j);
+      for (const char* point : {"wrist", "palm", "hand", "index"}) points.push_back(std::string(side) + point);
     }
-    if (l.joint) check_words(*l.joint, sided, "a labelled joint SIDE.JOINT");
-    for (const Text& r : l.ray) check_words(r, sided, "a labelled joint SIDE.JOINT");
+    if (l.joint) check_words(*l.joint, points, "a labelled hand point SIDE.POINT");
+    if (!l.ray.empty()) {
+      check_words(l.ray[0], {"left.shoulder", "right.shoulder"}, "a ray from SIDE.shoulder");
+      if (l.ray.size() > 1) check_words(l.ray[1], {"left.index", "right.index"}, "a ray to SIDE.index");
+    }
     if ((l.in || l.crosses) && !l.joint) problem(path, "a key 'joint' for in/crosses", "none");
     if (l.through) {
       if (l.ray.size() != 2) problem(path + ".ray", "[from, to] joints for through", std::to_string(l.ray.size()) + " joints");

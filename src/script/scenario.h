@@ -205,8 +205,8 @@ struct Label {
   std::string during;
   template <class V>
   void visit(V& v) {
-    v.opt("joint", joint, "SIDE.JOINT checked by `in` or `crosses`, e.g. $hand.wrist");
-    v.opt("ray", ray, "[SIDE.JOINT, SIDE.JOINT]: a pointing ray, checked by `through`");
+    v.opt("joint", joint, "SIDE.POINT (wrist, palm, hand, index) checked by `in` or `crosses`, e.g. $hand.wrist");
+    v.opt("ray", ray, "[SIDE.shoulder, SIDE.index]: the pointing ray, checked by `through`");
     v.opt("in", in, "ACT.zone: the joint stays inside that act's zone");
     v.opt("through", through, "a scene object the ray passes within its cue region");
     v.opt("crosses", crosses, "workspace: the joint crosses the workspace boundary");
