@@ -29,7 +29,7 @@ struct CueContract {
   std::string event;  // the event that gives the cue, e.g. "go1.stroke"
   CueKind kind = CueKind::kGo;
   double window = 1.0;                 // s, W_c
-  std::optional<core::Vec3> goal_W;    // kGo only: the response goal (required for kGo)
+  std::optional<core::Vec3> goal_W;    // kGo only: the response goal (none: any motion)
 };
 
 // A robot act: an expectation observed from the trace. Its start is the response onset: the

@@ -159,11 +159,8 @@ void score_cues(const Episode& e, EpisodeMetrics& m) {
     TimeSet response;
     switch (cue.kind) {
       case CueKind::kGo:
-        if (!cue.goal_W) {
-          throw core::InputError("contract: cue '" + cue.name + "'",
-                                 "a goal position for a go cue", "none");
-        }
-        response = toward_time(e.log, *cue.goal_W, e.c);
+        // Toward the goal; without a goal position, any sustained motion.
+        response = cue.goal_W ? toward_time(e.log, *cue.goal_W, e.c) : e.moving;
         break;
       case CueKind::kStop:
         response = e.still;

@@ -101,7 +101,7 @@ double protective_separation(double approach_speed, double separation, const Met
 
 // All metrics of one episode. Throws core::InputError if the log is inconsistent
 // (check_episode_log), or the contract names a predicate series the log lacks (success,
-// intent/contradicted when contradiction is set), a robot act twice, or a go cue without goal.
+// intent/contradicted when contradiction is set) or a robot act twice.
 EpisodeMetrics compute_metrics(const ScenarioContract& contract, const EpisodeLog& log,
                                const MetricConstants& c = {});
 
