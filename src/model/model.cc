@@ -103,6 +103,22 @@ Resolved resolve(const SceneSpec& in) {
   std::set<std::string> names;
   std::vector<std::array<Eigen::Vector2d, 4>> prints;
   std::vector<size_t> on_table;
+  const PlatformSpec& pl = in.platform;
+  std::array<Eigen::Vector2d, 4> platform_print{};
+  if (pl.present) {
+    if (!finite(pl.x) || !finite(pl.y) || !finite(pl.yaw) || !finite(pl.length) ||
+        !finite(pl.width) || pl.length < 0.05 || pl.width < 0.05)
+      throw core::InputError("scene.platform", "finite x, y, yaw and length, width >= 0.05 m",
+                             fmt::format("length {} width {}", pl.length, pl.width));
+    if (!finite(pl.height) || pl.height < 0.02 || pl.height > 0.5)
+      throw core::InputError("scene.platform.height", "a height in [0.02, 0.5] m",
+                             fmt::format("{}", pl.height));
+    platform_print = footprint(pl.x, pl.y, pl.yaw, pl.length / 2, pl.width / 2);
+    for (const auto& p : platform_print)
+      if (p.x() < kTableXMin || p.x() > kTableXMax || std::abs(p.y()) > kTableWidth / 2)
+        throw core::InputError("scene.platform", "a platform footprint on the table",
+                               fmt::format("off the table at x={:.3f} y={:.3f}", pl.x, pl.y));
+  }
   for (size_t i = 0; i < in.objects.size(); ++i) {
     ObjectSpec& o = r.spec.objects[i];
     const std::string where = fmt::format("scene.objects[{}]", i);
@@ -160,6 +176,9 @@ Resolved resolve(const SceneSpec& in) {
         throw core::InputError(where, "objects that do not overlap",
                                fmt::format("'{}' overlaps '{}'", o.name, r.spec.objects[k].name));
     }
+    if (pl.present && overlap(fp, platform_print))
+      throw core::InputError(where, "an object clear of the platform",
+                             fmt::format("'{}' overlaps the platform", o.name));
     prints.push_back(fp);
     on_table.push_back(i);
   }
@@ -246,6 +265,15 @@ Generated generate(const SceneSpec& spec) {
     world += fmt::format(
         R"(<geom name="table_leg{}" class="static" type="box" pos="{}" size="0.03 0.03 {}" rgba="0.45 0.35 0.25 1"/>)",
         i, mjcf::vec(Vec3(x, y, (kTableTopZ - 0.05) / 2)), mjcf::num((kTableTopZ - 0.05) / 2));
+    world += "\n";
+  }
+  if (s.platform.present) {
+    const PlatformSpec& pl = s.platform;
+    world += fmt::format(
+        R"(<geom name="platform" class="static" type="box" pos="{}" quat="{}" size="{}" rgba="0.55 0.45 0.35 1"/>)",
+        mjcf::vec(Vec3(pl.x, pl.y, kTableTopZ + pl.height / 2)),
+        mjcf::quat(core::axis_angle(Vec3::UnitZ(), pl.yaw)),
+        mjcf::vec(Vec3(pl.length / 2, pl.width / 2, pl.height / 2)));
     world += "\n";
   }
   // agentview: to the side of the table, above, seeing the robot, the table and the human.
@@ -493,6 +521,7 @@ Model build(const SceneSpec& spec) {
   model.wrist_camera = id_of(m, mjOBJ_CAMERA, "wrist");
   model.table_geom = id_of(m, mjOBJ_GEOM, "table");
   model.floor_geom = id_of(m, mjOBJ_GEOM, "floor");
+  if (model.spec.platform.present) model.platform_geom = id_of(m, mjOBJ_GEOM, "platform");
 
   // Human.
   model.human_body.fill(-1);
@@ -560,6 +589,8 @@ Model build(const SceneSpec& spec) {
            model.human_capsules[c].joint};
   }
   model.geom_tags[static_cast<size_t>(model.floor_geom)].owner = GeomOwner::kFloor;
+  if (model.platform_geom >= 0)
+    model.geom_tags[static_cast<size_t>(model.platform_geom)].owner = GeomOwner::kPlatform;
   for (int gid = 0; gid < m->ngeom; ++gid) {
     const char* name = mj_id2name(m, mjOBJ_GEOM, gid);
     if (name != nullptr && std::strncmp(name, "table", 5) == 0)

@@ -78,9 +78,20 @@ struct HumanSpec {
   human::Side handedness = human::Side::kRight;
 };
 
+// An optional raised platform: a fixed box standing on the table top (e.g. where the plank is
+// lowered in co_lift). Objects may not start overlapping its footprint.
+struct PlatformSpec {
+  bool present = false;
+  double x = 0.6, y = 0.3, yaw = 0;  // footprint centre on the table (world, m) and yaw (rad)
+  double length = 0.7;               // along its x axis, m
+  double width = 0.25;               // along its y axis, m
+  double height = 0.12;              // above the table top, m, in [0.02, 0.5]
+};
+
 struct SceneSpec {
   std::vector<ObjectSpec> objects;
   HumanSpec human;
+  PlatformSpec platform;
   // Light intensity multiplier in [0.2, 2] (lighting variation axis).
   double light_intensity = 1.0;
   // Lights cast shadows (MuJoCo's shadow map; costly on llvmpipe). Off by default.
@@ -178,7 +189,7 @@ struct ObjectInfo {
 };
 
 struct Model {
-  SceneSpec spec;                               // the spec it was built from
+  SceneSpec spec;  // the spec it was built from, defaults resolved (e.g. object names)
   std::unique_ptr<mjModel, MjModelDeleter> mj;  // never null after build()
   std::string mjcf;                             // the generated MJCF text (for inspection)
 
@@ -234,6 +245,7 @@ struct Model {
   // Fixed geoms.
   int table_geom = -1;
   int floor_geom = -1;
+  int platform_geom = -1;  // -1 without a platform; its top is at kTableTopZ + height
 
   Model() = default;
   Model(Model&&) = default;

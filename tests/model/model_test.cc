@@ -184,6 +184,31 @@ TEST_F(ModelTest, RejectsBadNamesScalesHumansAndHolds) {
   EXPECT_THAT(build_error(spec), HasSubstr("expected a free hand, got the left hand already holds 'cube'"));
 }
 
+TEST_F(ModelTest, PlatformIsAStaticTaggedBoxOnTheTable) {
+  SceneSpec spec = SceneSpec::Default();
+  spec.platform.present = true;
+  spec.platform.x = 0.75;
+  spec.platform.y = 0.3;
+  spec.platform.length = 0.5;
+  spec.platform.width = 0.2;
+  spec.platform.height = 0.1;
+  spec.objects[1].x = 0.3;  // the cup out of the platform's way
+  const Model model = build(spec);
+  ASSERT_GE(model.platform_geom, 0);
+  EXPECT_EQ(model.geom_tags[static_cast<size_t>(model.platform_geom)].owner, GeomOwner::kPlatform);
+  const mjModel* m = model.m();
+  EXPECT_EQ(m->body_weldid[m->geom_bodyid[model.platform_geom]], 0);  // fixed to the world
+  EXPECT_NEAR(m->geom_pos[3 * model.platform_geom + 2] + m->geom_size[3 * model.platform_geom + 2],
+              kTableTopZ + 0.1, 1e-9);
+  spec.objects[1].x = 0.7;
+  EXPECT_EQ(build_error(spec),
+            "scene.objects[1]: expected an object clear of the platform, got 'cup' overlaps the platform");
+  spec.objects[1].x = 0.3;
+  spec.platform.height = 0.8;
+  EXPECT_EQ(build_error(spec), "scene.platform.height: expected a height in [0.02, 0.5] m, got 0.8");
+  EXPECT_EQ(build(SceneSpec::Default()).platform_geom, -1);
+}
+
 TEST_F(ModelTest, NamesAndColours) {
   EXPECT_EQ(object_kind_from_name("plank"), ObjectKind::kPlank);
   EXPECT_EQ(object_kind_from_name("Plank"), std::nullopt);
