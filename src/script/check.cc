@@ -612,25 +612,45 @@ class Validator {
     return n;
   }
   // Resolves "ACT.EVENT" to a graph node, reporting a problem at `path` when it cannot.
+  // The acts an event's act name stands for: the visible act of that name, or, when every
+  // variant defines an act of that name, those acts (each episode has exactly one of them).
+  std::vector<const ActInfo*> acts_named(const std::string& name) const {
+    if (const ActInfo* a = find_act(name)) return {a};
+    std::vector<const ActInfo*> found;
+    for (const Entry<Variant>& v : s_.variants) {
+      const auto it = std::find_if(acts_.begin(), acts_.end(),
+                                   [&](const ActInfo& a) { return a.name == name && a.variant == v.name; });
+      if (it == acts_.end()) return {};
+      found.push_back(&*it);
+    }
+    return found;
+  }
+  // Resolves "ACT.EVENT" to a graph node, reporting a problem at `path` when it cannot.
   std::optional<size_t> event(const std::string& text, const std::string& path) {
     const size_t dot = text.find('.');
-    const ActInfo* a = dot == std::string::npos ? nullptr : find_act(text.substr(0, dot));
-    if (a == nullptr) {
+    const std::vector<const ActInfo*> acts = dot == std::string::npos ? std::vector<const ActInfo*>{} : acts_named(text.substr(0, dot));
+    if (acts.empty()) {
       problem(path, "an event ACT.start, ACT.end or ACT.PHASE (acts: " + join(act_names()) + ")", "'" + text + "'");
       return std::nullopt;
     }
     const std::string what = text.substr(dot + 1);
-    if (what == "start") return a->node;
-    if (what == "end") return a->node + a->phases.size() + 1;
-    const auto it = std::find(a->phases.begin(), a->phases.end(), what);
-    if (it == a->phases.end() && !a->phases_known) return std::nullopt;  // motion already reported
-    if (it == a->phases.end()) {
-      std::vector<std::string> options = {"start", "end"};
-      options.insert(options.end(), a->phases.begin(), a->phases.end());
-      problem(path, "an event of act '" + a->name + "' (" + join(options) + ")", "'" + text + "'");
-      return std::nullopt;
+    std::optional<size_t> node;
+    for (const ActInfo* a : acts) {
+      std::optional<size_t> n;
+      if (what == "start") n = a->node;
+      if (what == "end") n = a->node + a->phases.size() + 1;
+      const auto it = std::find(a->phases.begin(), a->phases.end(), what);
+      if (it != a->phases.end()) n = a->node + 1 + static_cast<size_t>(it - a->phases.begin());
+      if (!n && !a->phases_known) return std::nullopt;  // its motion is already reported
+      if (!n) {
+        std::vector<std::string> options = {"start", "end"};
+        options.insert(options.end(), a->phases.begin(), a->phases.end());
+        problem(path, "an event of act '" + a->name + "' (" + join(options) + ")", "'" + text + "'");
+        return std::nullopt;
+      }
+      if (!node) node = n;
     }
-    return a->node + 1 + static_cast<size_t>(it - a->phases.begin());
+    return node;
   }
   std::string node_name(size_t node) const {
     for (const ActInfo& a : acts_) {

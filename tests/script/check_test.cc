@@ -184,6 +184,11 @@ TEST(CheckTest, VariantActsAreVisibleOnlyInTheirVariant) {
       "success:\n  - grasped(robot, cube)\n";
   const auto problems = check_text(text, "v.yaml");
   ASSERT_EQ(problems.size(), 2U) << all(problems);
+  // An act that every variant defines can be named from the top level.
+  const std::string both = text.substr(0, text.find("  b:\n")) +
+                           "  b:\n    acts:\n      wave:\n        actor: human\n        motion: {primitive: stop}\n"
+                           "success:\n  - grasped(robot, cube)\n";
+  EXPECT_TRUE(check_text(both, "v.yaml").empty()) << all(check_text(both, "v.yaml"));
   EXPECT_EQ(problems[0].text(), "v.yaml:12:12 (acts.take.after): expected an event ACT.start, ACT.end or ACT.PHASE (acts: take), got 'wave.end'");
   EXPECT_EQ(problems[1].text(), "v.yaml:24:16 (variants.b.acts.wait.after): expected an event ACT.start, ACT.end or ACT.PHASE (acts: take, wait, ok), got 'wave.start'");
 }
