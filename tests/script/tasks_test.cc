@@ -191,6 +191,49 @@ TEST(TasksTest, PersonAndObjectsAreWithinReach) {
   }
 }
 
+// Footprints (nominal half extents of model/objects.cc, rotated by the yaw, as axis-aligned
+// boxes) of the task's objects resting on the table never overlap. Distractors are placed by
+// sample() and not checked here.
+TEST(TasksTest, TaskObjectsDoNotOverlapOnTheTable) {
+  static const std::map<std::string, std::pair<double, double>> half = {
+      {"cube", {0.025, 0.025}}, {"cup", {0.035, 0.035}}, {"bottle", {0.032, 0.032}},
+      {"plate", {0.1, 0.1}},    {"bin", {0.12, 0.09}},   {"tray", {0.15, 0.11}},
+      {"box", {0.1, 0.08}},     {"plank", {0.3, 0.03}},  {"platform", {0.25, 0.1}}};
+  struct Footprint {
+    std::string name;
+    double x0, x1, y0, y1;
+  };
+  for (const std::string& name : task_files()) {
+    const Scenario s = load_scenario(path_of(name));
+    for (uint64_t seed = 0; seed < 100; ++seed) {
+      const EpisodeSpec spec = sample(s, seed);
+      std::vector<Footprint> prints;
+      for (const Entry<SceneObject>& o : spec.scene.objects) {
+        // Objects raised on another (z given) and distractors are not resting on the table top.
+        if (!o.value.pose || o.value.pose->z || o.name.rfind("distractor_", 0) == 0) continue;
+        auto [hx, hy] = half.at(o.value.kind.value());
+        if (!o.value.size.empty()) {
+          hx = o.value.size[0].value() / 2;
+          hy = o.value.size[1].value() / 2;
+        }
+        const double yaw = o.value.pose->yaw_deg.value() * core::kPi / 180;
+        const double ax = std::abs(hx * std::cos(yaw)) + std::abs(hy * std::sin(yaw));
+        const double ay = std::abs(hx * std::sin(yaw)) + std::abs(hy * std::cos(yaw));
+        const double x = o.value.pose->xy[0].value(), y = o.value.pose->xy[1].value();
+        prints.push_back({o.name, x - ax, x + ax, y - ay, y + ay});
+      }
+      for (size_t i = 0; i < prints.size(); ++i) {
+        for (size_t j = i + 1; j < prints.size(); ++j) {
+          const Footprint& a = prints[i];
+          const Footprint& b = prints[j];
+          const bool overlap = a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+          EXPECT_FALSE(overlap) << name << " seed " << seed << ": " << a.name << " and " << b.name;
+        }
+      }
+    }
+  }
+}
+
 // Every human act, synthesized from a standing start by the human layer, reaches its hand
 // targets (palm within 5 cm; a two-handed lift within half the grip width more) and points
 // through its pointing target: the scripts stay within reach for heights 1.55-1.95 m.
