@@ -3,6 +3,7 @@
 // bad flags are one clear line.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -19,9 +20,12 @@ namespace {
 using ::hribench::testing::count_lines;
 using ::hribench::testing::run_hribench;
 
-nlohmann::json run_bench_json(const std::string& flags) {
-  const std::string path =
-      (std::filesystem::temp_directory_path() / "hribench_bench_command_test.json").string();
+// Runs bench with `flags`, writing JSON to a file named after `name` and this process (tests
+// may run in parallel), and returns the parsed file (discarded if it is not valid JSON).
+nlohmann::json run_bench_json(const std::string& name, const std::string& flags) {
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("hribench_bench_" + name + "_" + std::to_string(getpid()) + ".json"))
+                               .string();
   std::remove(path.c_str());
   const auto r = run_hribench("bench --json " + path + " " + flags);
   EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -39,7 +43,7 @@ void expect_positive(const nlohmann::json& j, const char* key) {
 }
 
 TEST(BenchCommandTest, TinyRunWritesJsonWithEveryKey) {
-  const nlohmann::json j = run_bench_json("--seconds 0.05 --threads 2");
+  const nlohmann::json j = run_bench_json("tiny", "--seconds 0.05 --threads 2");
   ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
   EXPECT_EQ(j["mujoco_version"], "2.2.2");
   EXPECT_EQ(j["backend"], "osmesa");
@@ -70,7 +74,7 @@ TEST(BenchCommandTest, TinyRunWritesJsonWithEveryKey) {
 }
 
 TEST(BenchCommandTest, NoneBackendSkipsRendering) {
-  const nlohmann::json j = run_bench_json("--seconds 0.02 --threads 1 --backend none");
+  const nlohmann::json j = run_bench_json("none", "--seconds 0.02 --threads 1 --backend none");
   ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
   EXPECT_EQ(j["gl_renderer"], "none");
   EXPECT_TRUE(j["render"].empty());

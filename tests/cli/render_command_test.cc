@@ -3,6 +3,7 @@
 // no usable GL context) is one clear line and exit code 2.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -18,8 +19,11 @@ namespace {
 using ::hribench::testing::count_lines;
 using ::hribench::testing::run_hribench;
 
+// A temporary PNG path unique to this process (test programs may run in parallel).
 std::string temp_png(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / name).string();
+  return (std::filesystem::temp_directory_path() /
+          (std::to_string(getpid()) + "_" + name))
+      .string();
 }
 
 // Runs `args` and expects exit 2 with exactly the one line "hribench: error: <message>".

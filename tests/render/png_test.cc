@@ -4,6 +4,7 @@
 #include "render/png.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -14,8 +15,10 @@
 namespace hribench::render {
 namespace {
 
+// A temporary path unique to this process (test programs may run in parallel).
 std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / name).string();
+  return (std::filesystem::temp_directory_path() / (std::to_string(getpid()) + "_" + name))
+      .string();
 }
 
 TEST(PngTest, RoundTripIsExact) {
