@@ -279,6 +279,85 @@ TEST(TasksTest, HumanMotionReachesEveryTarget) {
   }
 }
 
+// Runs the act-graph runtime of a sampled episode in a world where the robot never moves (the
+// `noop` baseline): objects stay where they start, an object held from the start stays in its
+// hand, the hands hang at the person's sides. Returns the runtime state at the horizon.
+RuntimeState run_still_world(const EpisodeSpec& spec, const ActGraph& graph) {
+  WorldSnapshot world;
+  for (const std::string& name : graph.objects) {
+    ObjectState o;
+    const Entry<SceneObject>* object = find_object(spec, name);
+    if (!object->value.held_by) o.X_WO.translation = object_centre(spec, name);
+    o.p_WO_initial = o.X_WO.translation;
+    o.half_extents = core::Vec3(0.03, 0.03, 0.03);
+    world.objects.push_back(o);
+  }
+  world.X_WT.translation = core::Vec3(0.3, 0.0, 1.25);
+  const double px = spec.human.stand.x.value(), py = spec.human.stand.y.value();
+  world.hands[kLeftHand].p_W = core::Vec3(px, py - 0.2, 0.85);
+  world.hands[kRightHand].p_W = core::Vec3(px, py + 0.2, 0.85);
+  for (size_t i = 0; i < graph.objects.size(); ++i) {
+    const Entry<SceneObject>* object = find_object(spec, graph.objects[i]);
+    if (!object->value.held_by) continue;
+    const int hand = object->value.held_by->value() == "human.left" ? kLeftHand : kRightHand;
+    world.hands[static_cast<size_t>(hand)].held_object = static_cast<int>(i);
+    world.objects[i].X_WO.translation = world.hands[static_cast<size_t>(hand)].p_W;
+  }
+  RuntimeState state = make_runtime(graph);
+  for (int k = 0; k * 0.05 <= spec.horizon; ++k) {
+    world.time = k * 0.05;
+    step(graph, state, world);
+  }
+  return state;
+}
+
+// With a robot that never moves, the person's scheduled acts and cues all happen within the
+// horizon, the person's reactive acts (triggered by the robot) never start, and C1's person
+// gives up (the episode fails).
+TEST(TasksTest, WithARobotThatNeverMovesScheduledCuesHappenAndReactiveActsDoNot) {
+  const std::map<std::string, std::vector<std::string>> happen = {
+      {"I1_point_pick", {"point.stroke", "point.end"}},
+      {"I2_gesture_delivery", {"ask.gesture", "take.open"}},
+      {"I3_demo_imitate", {"demo.release", "step_back.end", "your_turn.gesture"}},
+      {"I4_stop_go", {"go.gesture"}},
+      {"C1_handover_h2r", {"offer.hold_stable", "give_up.start"}},
+      {"C3_box_retrieval", {"lid.hold", "lid.close", "lid.end"}},
+      {"C4_co_lift", {"hlift.lift", "carry.end", "put_down.release"}},
+      {"X1_intrusion_yield", {"intrude.dwell", "intrude.end"}}};
+  const std::map<std::string, std::vector<std::string>> never = {
+      {"I4_stop_go", {"halt.start"}},
+      {"I5_contradiction", {"wave_off.start", "point_tray.start"}},
+      {"C2_handover_r2h", {"take.start"}},
+      {"X2_object_moved", {"relocate.start"}},
+      {"X3_someone_else_places", {"do_it.start"}},
+      {"X4_blocked_target", {"block.start", "set_down.start"}}};
+  std::set<std::string> named;  // "never" events that exist in some sampled episode
+  for (const std::string& name : task_files()) {
+    const Scenario s = load_scenario(path_of(name));
+    for (uint64_t seed = 0; seed < 12; ++seed) {
+      const EpisodeSpec spec = sample(s, seed);
+      const ActGraph graph = compile(spec);
+      const RuntimeState state = run_still_world(spec, graph);
+      const std::string where = name + " seed " + std::to_string(seed) + " variant " + spec.variant;
+      if (happen.count(name) != 0) {
+        for (const std::string& e : happen.at(name)) {
+          EXPECT_FALSE(std::isnan(event_time(graph, state, e))) << where << ": " << e;
+        }
+      }
+      if (never.count(name) != 0) {
+        for (const std::string& e : never.at(name)) {
+          if (graph.event_id(e) >= 0) named.insert(name + " " + e);
+          EXPECT_TRUE(std::isnan(event_time(graph, state, e))) << where << ": " << e;
+        }
+      }
+      EXPECT_EQ(state.failed_at >= 0, name == "C1_handover_h2r") << where;
+    }
+  }
+  size_t expected = 0;
+  for (const auto& [task, events] : never) expected += events.size();
+  EXPECT_EQ(named.size(), expected);  // every listed event is an event of some episode
+}
+
 TEST(TasksTest, I1PointsAtOneOfTheSceneObjectsAndTheRobotWaitsForTheStroke) {
   const Scenario s = load_scenario(path_of("I1_point_pick"));
   std::set<std::string> targets;
