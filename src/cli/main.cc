@@ -18,7 +18,12 @@ std::vector<Command>& registry() {
   return commands;
 }
 
-Registration::Registration(Command command) { registry().push_back(std::move(command)); }
+Registration::Registration(Command command) {
+  auto& commands = registry();
+  const auto at = std::lower_bound(commands.begin(), commands.end(), command.name,
+                                   [](const Command& c, const std::string& name) { return c.name < name; });
+  commands.insert(at, std::move(command));
+}
 
 namespace {
 
