@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -89,7 +90,12 @@ Renderer::Renderer(Backend backend, const mjModel& m, int width, int height,
   sized.vis.quality.offsamples = settings.multisamples;
   if (settings.shadow_map_size > 0) sized.vis.quality.shadowsize = settings.shadow_map_size;
   if (!settings.shadows) sized.vis.quality.shadowsize = 1;  // no shadow map memory or cost
+  // mju_user_error is process-global and MuJoCo's GL loading is not thread-safe: one renderer
+  // at a time makes its scene and context, so a concurrent constructor can neither see the
+  // throwing handler as "previous" nor leave it installed.
+  static std::mutex make_context_mutex;
   try {
+    const std::lock_guard<std::mutex> lock(make_context_mutex);
     ThrowingMujocoErrors errors;
     mjv_makeScene(&m, &scene_, scene_capacity(m));
     mjr_makeContext(&sized, &context_, mjFONTSCALE_50);
