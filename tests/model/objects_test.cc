@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <string>
+
 #include "model/mjcf.h"
 #include "model/model.h"
 #include "support/mujoco_fixture.h"
@@ -11,6 +15,49 @@ namespace {
 
 using ObjectsTest = testing::MujocoTest;
 using core::Vec3;
+
+// Axis-aligned bounding box (centre, half extents) of geom g, in the frame F given X_FW.
+struct GeomBox {
+  Vec3 centre;
+  Vec3 half;
+};
+GeomBox geom_box_in(const mjModel& m, const mjData& d, int g, const core::Pose& X_FW) {
+  const auto b = static_cast<size_t>(g);
+  const Vec3 p_W(d.geom_xpos[3 * b], d.geom_xpos[3 * b + 1], d.geom_xpos[3 * b + 2]);
+  // Rows of geom_xmat are world axes; columns are geom axes.
+  Eigen::Matrix3d R_WG;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) R_WG(r, c) = d.geom_xmat[9 * b + static_cast<size_t>(3 * r + c)];
+  }
+  const Eigen::Matrix3d R = X_FW.rotation.toRotationMatrix() * R_WG;
+  const double* size = m.geom_size + 3 * b;
+  Vec3 half;
+  for (int i = 0; i < 3; ++i) {
+    const double axial = std::abs(R(i, 2));  // geom z: cylinder and capsule axis
+    const double radial = std::sqrt(std::max(0.0, 1.0 - axial * axial));
+    switch (m.geom_type[g]) {
+      case mjGEOM_BOX:
+        half[i] = std::abs(R(i, 0)) * size[0] + std::abs(R(i, 1)) * size[1] + axial * size[2];
+        break;
+      case mjGEOM_SPHERE:
+        half[i] = size[0];
+        break;
+      case mjGEOM_CYLINDER:
+        half[i] = axial * size[1] + radial * size[0];
+        break;
+      case mjGEOM_CAPSULE:
+        half[i] = axial * size[1] + size[0];
+        break;
+      case mjGEOM_ELLIPSOID:
+        half[i] = std::hypot(R(i, 0) * size[0], R(i, 1) * size[1], R(i, 2) * size[2]);
+        break;
+      default:
+        half[i] = m.geom_rbound[g];  // any other shape: its bounding sphere
+        break;
+    }
+  }
+  return {X_FW * p_W, half};
+}
 
 TEST_F(ObjectsTest, SizesAndMassesScale) {
   SceneSpec spec;
@@ -43,17 +90,22 @@ TEST_F(ObjectsTest, GeomsLieInsideTheDeclaredBoundingBox) {
     mj_kinematics(m, d);
     const ObjectInfo& info = model.objects[0];
     const Vec3 h = info.half_extents;
-    // Geom AABBs (world = body frame translated, yaw 0) within [-h, h] x [0, 2h] + 1 mm.
+    // Each geom's axis-aligned box in the object frame lies within [-h, h] x [0, 2h] + 1 mm.
+    const core::Pose X_OW = info.X_W_start.inverse();
+    const Vec3 lo(-h.x(), -h.y(), 0.0);
+    const Vec3 hi(h.x(), h.y(), 2 * h.z());
+    int checked = 0;
     for (int g = 0; g < m->ngeom; ++g) {
       if (model.geom_tags[static_cast<size_t>(g)].owner != GeomOwner::kObject) continue;
-      const Vec3 c = Vec3(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2]) -
-                     info.X_W_start.translation;
-      const double r = m->geom_rbound[g];
-      EXPECT_GT(c.z() + r, 0.0) << kind;
-      EXPECT_LT(c.z(), 2 * h.z() + 1e-3) << kind;
-      EXPECT_LT(std::abs(c.x()), h.x() + 1e-3) << kind;
-      EXPECT_LT(std::abs(c.y()), h.y() + 1e-3) << kind;
+      const GeomBox box = geom_box_in(*m, *d, g, X_OW);
+      for (int i = 0; i < 3; ++i) {
+        const std::string where = std::string(kind) + " geom " + std::to_string(g);
+        EXPECT_GT(box.centre[i] - box.half[i], lo[i] - 1e-3) << where << " axis " << i;
+        EXPECT_LT(box.centre[i] + box.half[i], hi[i] + 1e-3) << where << " axis " << i;
+      }
+      ++checked;
     }
+    EXPECT_GT(checked, 0) << kind;
     if (info.kind == ObjectKind::kBox) {
       // The lid opens upward: at 1 rad its free edge is above the closed lid.
       const int lid = info.lid_body;
