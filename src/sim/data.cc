@@ -96,15 +96,12 @@ int warning_count(const Data& data) {
 }
 
 std::string warning_summary(const Data& data) {
-  static const char* const kNames[mjNWARNING] = {"INERTIA", "CONTACTFULL", "CNSTRFULL",
-                                                 "VGEOMFULL", "BADQPOS",    "BADQVEL",
-                                                 "BADQACC",  "BADCTRL"};
   std::ostringstream out;
   for (int i = 0; i < mjNWARNING; ++i) {
     const mjWarningStat& w = data.mj->warning[i];
     if (w.number == 0) continue;
     if (out.tellp() > 0) out << ", ";
-    out << kNames[i] << " x" << w.number << " (info " << w.lastinfo << ")";
+    out << warning_name(i) << " x" << w.number << " (info " << w.lastinfo << ")";
   }
   return out.str();
 }

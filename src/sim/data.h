@@ -96,4 +96,13 @@ void forward(const model::Model& model, Data& data);
 int warning_count(const Data& data);
 std::string warning_summary(const Data& data);
 
+// Short name of MuJoCo warning slot `i` (mjtWarning order: 0 = "INERTIA" ... mjNWARNING - 1 =
+// "BADCTRL"); "?" outside [0, mjNWARNING). Inline so test support can share it without linking.
+inline const char* warning_name(int i) {
+  static constexpr std::array<const char*, mjNWARNING> kNames = {
+      "INERTIA", "CONTACTFULL", "CNSTRFULL", "VGEOMFULL", "BADQPOS", "BADQVEL", "BADQACC",
+      "BADCTRL"};
+  return i >= 0 && i < mjNWARNING ? kNames[static_cast<size_t>(i)] : "?";
+}
+
 }  // namespace hribench::sim

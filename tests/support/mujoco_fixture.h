@@ -18,6 +18,8 @@
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
+#include "sim/data.h"
+
 namespace hribench::testing {
 
 // Messages MuJoCo sent to mju_user_warning while a MujocoTest was running.
@@ -36,14 +38,11 @@ inline void record_mujoco_warning(const char* message) {
 
 // Names of mjData warning slots with a non-zero count, "" if none.
 inline std::string mujoco_warning_counts(const mjData* d) {
-  static const char* const kNames[mjNWARNING] = {"INERTIA", "CONTACTFULL", "CNSTRFULL",
-                                                 "VGEOMFULL", "BADQPOS",    "BADQVEL",
-                                                 "BADQACC",  "BADCTRL"};
   std::ostringstream out;
   for (int i = 0; i < mjNWARNING; ++i) {
     if (d->warning[i].number > 0)
-      out << kNames[i] << " x" << d->warning[i].number << " (info " << d->warning[i].lastinfo
-          << ") ";
+      out << sim::warning_name(i) << " x" << d->warning[i].number << " (info "
+          << d->warning[i].lastinfo << ") ";
   }
   return out.str();
 }
