@@ -16,7 +16,7 @@
 #include "core/errors.h"
 #include "model/model.h"
 #include "sim/data.h"
-#include "support/mujoco_fixture.h"
+#include "support/default_scene.h"
 
 namespace hribench::render {
 namespace {
@@ -201,12 +201,8 @@ TEST_F(RendererTest, NoneBackendNeverLoadsGl) {
 
 // The acceptance check of the foundation: the default scene's agentview shows the robot and the
 // human, counted by segmentation through the Model's geom tags (not by eye).
-class DefaultSceneTest : public ::hribench::testing::MujocoTest {
+class DefaultSceneTest : public ::hribench::testing::DefaultScene {
  protected:
-  void SetUp() override {
-    MujocoTest::SetUp();
-    Watch(data_.mj.get());
-  }
   // Segmentation of `camera` at width x height, by geom owner.
   std::vector<model::GeomTag> seen_tags(int camera, int width, int height) {
     auto renderer = make_renderer(Backend::kOsmesa, *model_.m(), width, height);
@@ -220,9 +216,6 @@ class DefaultSceneTest : public ::hribench::testing::MujocoTest {
     }
     return tags;
   }
-
-  const model::Model model_ = model::build(model::SceneSpec::Default());
-  sim::Data data_ = sim::make_data(model_);
 };
 
 TEST_F(DefaultSceneTest, AgentviewShowsRobotHumanTableAndObjects) {
@@ -264,6 +257,8 @@ TEST_F(DefaultSceneTest, ThreadsRenderWithTheirOwnRenderers) {
   Image reference;
   make_renderer(Backend::kOsmesa, *model.m(), 48, 32)->render(model, data, model.agentview_camera,
                                                               reference);
+  // Renderers made at once must leave MuJoCo's global error handler as it was.
+  void (*const error_handler)(const char*) = mju_user_error;
   std::vector<Image> images(2);
   std::vector<std::thread> threads;
   for (size_t t = 0; t < images.size(); ++t) {
@@ -274,6 +269,7 @@ TEST_F(DefaultSceneTest, ThreadsRenderWithTheirOwnRenderers) {
   }
   for (std::thread& thread : threads) thread.join();
   for (const Image& image : images) EXPECT_EQ(image.rgb, reference.rgb);
+  EXPECT_EQ(mju_user_error, error_handler);
 }
 
 TEST_F(DefaultSceneTest, WristCameraSeesTheFingers) {

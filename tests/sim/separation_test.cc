@@ -9,6 +9,7 @@
 
 #include "core/rng.h"
 #include "sim/data.h"
+#include "support/default_scene.h"
 #include "support/mujoco_fixture.h"
 
 namespace hribench::sim {
@@ -245,17 +246,7 @@ TEST_F(MinSeparation, InfiniteWithoutHumanGeoms) {
 }
 
 // The real scene (model::build) with the human posed through sim::set_human_pose.
-class SceneSeparation : public testing::MujocoTest {
- protected:
-  void SetUp() override {
-    MujocoTest::SetUp();
-    model_ = model::build(model::SceneSpec::Default());
-    data_ = make_data(model_);
-    Watch(data_.mj.get());
-  }
-  model::Model model_;
-  Data data_;
-};
+using SceneSeparation = testing::DefaultScene;
 
 TEST_F(SceneSeparation, HandTipBesideTheBaseCylinderIsAtTheHandComputedDistance) {
   // The robot base (link 0) cylinder, read from the model: axis vertical, radius r_base.
