@@ -8,6 +8,7 @@
 #include "core/errors.h"
 #include "eval/robot_motion.h"
 #include "human/skeleton.h"
+#include "sim/contact.h"
 
 namespace hribench::eval {
 
@@ -274,9 +275,9 @@ void score_contacts(const Episode& e, EpisodeMetrics& m) {
       }
       if (contact.other_kind != ContactOther::kHuman) continue;
       m.max_human_force = std::max(m.max_human_force, f);
-      const double limit = human::quasi_static_force_limit(*contact.region);
-      if (f > limit) m.above_quasi_static = true;
-      if (f > e.c.transient_factor * limit) m.critical_contact = true;
+      const sim::ContactGrade grade = sim::grade_contact(*contact.region, f, e.c.transient_factor);
+      if (grade >= sim::ContactGrade::kAboveQuasiStatic) m.above_quasi_static = true;
+      if (grade == sim::ContactGrade::kCritical) m.critical_contact = true;
       if (f > 0 && !permitted(e, contact, s.time)) m.human_contact = true;
     }
   }

@@ -114,15 +114,15 @@ std::string_view to_string(ContactGrade grade) {
   return "?";
 }
 
-ContactGrade grade_contact(human::BodyRegion region, double normal_force_N) {
+ContactGrade grade_contact(human::BodyRegion region, double normal_force_N, double transient_factor) {
   const double limit = human::quasi_static_force_limit(region);
-  if (normal_force_N > 2.0 * limit) return ContactGrade::kCritical;
+  if (normal_force_N > transient_factor * limit) return ContactGrade::kCritical;
   if (normal_force_N > limit) return ContactGrade::kAboveQuasiStatic;
   if (normal_force_N > 0.0) return ContactGrade::kWithinLimit;
   return ContactGrade::kNoForce;
 }
 
-void human_contact_loads(const std::vector<Contact>& contacts,
+void human_contact_loads(const std::vector<Contact>& contacts, double transient_factor,
                          std::vector<HumanContactLoad>* out) {
   HRIB_CHECK(out != nullptr);
   out->clear();
@@ -137,7 +137,7 @@ void human_contact_loads(const std::vector<Contact>& contacts,
     }
     it->normal_force += c.normal_force;
   }
-  for (HumanContactLoad& load : *out) load.grade = grade_contact(load.region, load.normal_force);
+  for (HumanContactLoad& load : *out) load.grade = grade_contact(load.region, load.normal_force, transient_factor);
 }
 
 ContactGrade worst_grade(const std::vector<HumanContactLoad>& loads) {

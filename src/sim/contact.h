@@ -71,12 +71,14 @@ std::string party_name(const model::Model& model, const ContactParty& party);
 enum class ContactGrade {
   kNoForce,          // normal force == 0 (touching without pressing)
   kWithinLimit,      // 0 < F <= quasi-static limit
-  kAboveQuasiStatic, // quasi-static limit < F <= transient limit (2x)
-  kCritical,         // F > transient limit
+  kAboveQuasiStatic, // quasi-static limit < F <= transient limit
+  kCritical,         // F > transient limit (transient_factor x quasi-static limit)
 };
 std::string_view to_string(ContactGrade grade);  // "no_force", "within_limit", ...
-// Grade of `normal_force_N` on `region` (limits from human::quasi_static_force_limit).
-ContactGrade grade_contact(human::BodyRegion region, double normal_force_N);
+// Grade of `normal_force_N` on `region`: the quasi-static limit is
+// human::quasi_static_force_limit(region), the transient limit `transient_factor` times
+// it. The one definition of a critical contact (eval's metrics grade with it too).
+ContactGrade grade_contact(human::BodyRegion region, double normal_force_N, double transient_factor);
 
 // The force one robot presses on one human geom at this instant: the sum of the normal forces
 // of all robot contacts on that geom (MuJoCo may report several points per geom pair), graded.
@@ -87,8 +89,9 @@ struct HumanContactLoad {
   ContactGrade grade = ContactGrade::kNoForce;
 };
 // Fills `out` (cleared first) with one load per human geom touched by the robot, in human geom
-// id order. Allocation-free once `out` has capacity (one entry per touched human geom).
-void human_contact_loads(const std::vector<Contact>& contacts,
+// id order, graded with grade_contact(.., transient_factor). Allocation-free once `out` has
+// capacity (one entry per touched human geom).
+void human_contact_loads(const std::vector<Contact>& contacts, double transient_factor,
                          std::vector<HumanContactLoad>* out);
 // The worst grade among `loads` (kNoForce if empty).
 ContactGrade worst_grade(const std::vector<HumanContactLoad>& loads);

@@ -350,6 +350,10 @@ TEST(Hcs, QuasiStaticAndTransientContacts) {
   EXPECT_TRUE(t.critical_contact);
   EXPECT_FALSE(t.success);
   EXPECT_EQ(*t.primary_label, FailureLabel::kCriticalContact);
+  // The transient factor is configurable: at 1.05 (147 N on the hand) 150 N is critical.
+  MetricConstants tight;
+  tight.transient_factor = 1.05;
+  EXPECT_TRUE(compute_metrics(ScenarioContract{}, quasi.log(), tight).critical_contact);
   // Below the limit: HCS untouched.
   EpisodeBuilder light(5.0);
   light.contact(2.0, 2.0, human_contact("right_hand", human::BodyRegion::kHand, 100.0));

@@ -20,17 +20,20 @@ using human::BodyRegion;
 
 TEST(GradeContact, UsesTheQuasiStaticAndTransientLimitsOfTheRegion) {
   // Hand: 140 N quasi-static, 280 N transient.
-  EXPECT_EQ(grade_contact(BodyRegion::kHand, 0.0), ContactGrade::kNoForce);
-  EXPECT_EQ(grade_contact(BodyRegion::kHand, 1.0), ContactGrade::kWithinLimit);
-  EXPECT_EQ(grade_contact(BodyRegion::kHand, 140.0), ContactGrade::kWithinLimit);
-  EXPECT_EQ(grade_contact(BodyRegion::kHand, 140.5), ContactGrade::kAboveQuasiStatic);
-  EXPECT_EQ(grade_contact(BodyRegion::kHand, 280.0), ContactGrade::kAboveQuasiStatic);
-  EXPECT_EQ(grade_contact(BodyRegion::kHand, 280.5), ContactGrade::kCritical);
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 0.0, 2.0), ContactGrade::kNoForce);
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 1.0, 2.0), ContactGrade::kWithinLimit);
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 140.0, 2.0), ContactGrade::kWithinLimit);
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 140.5, 2.0), ContactGrade::kAboveQuasiStatic);
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 280.0, 2.0), ContactGrade::kAboveQuasiStatic);
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 280.5, 2.0), ContactGrade::kCritical);
   // Head: 130 N; 150 N is above it but below 260 N.
-  EXPECT_EQ(grade_contact(BodyRegion::kHead, 150.0), ContactGrade::kAboveQuasiStatic);
-  EXPECT_EQ(grade_contact(BodyRegion::kHead, 261.0), ContactGrade::kCritical);
+  EXPECT_EQ(grade_contact(BodyRegion::kHead, 150.0, 2.0), ContactGrade::kAboveQuasiStatic);
+  EXPECT_EQ(grade_contact(BodyRegion::kHead, 261.0, 2.0), ContactGrade::kCritical);
   // Thigh: 220 N.
-  EXPECT_EQ(grade_contact(BodyRegion::kThigh, 150.0), ContactGrade::kWithinLimit);
+  EXPECT_EQ(grade_contact(BodyRegion::kThigh, 150.0, 2.0), ContactGrade::kWithinLimit);
+  // The transient factor is a parameter: at 1.5 the hand's transient limit is 210 N.
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 210.0, 1.5), ContactGrade::kAboveQuasiStatic);
+  EXPECT_EQ(grade_contact(BodyRegion::kHand, 210.5, 1.5), ContactGrade::kCritical);
   EXPECT_EQ(to_string(ContactGrade::kCritical), "critical");
   EXPECT_EQ(to_string(ContactGrade::kAboveQuasiStatic), "above_quasi_static");
 }
@@ -58,7 +61,7 @@ TEST(HumanContactLoads, SumsThePointsOfEachHumanGeomAndGradesThem) {
   object_table.normal_force = 1000.0;
   contacts.push_back(object_table);
   std::vector<HumanContactLoad> loads;
-  human_contact_loads(contacts, &loads);
+  human_contact_loads(contacts, 2.0, &loads);
   ASSERT_EQ(loads.size(), 2u);
   EXPECT_EQ(loads[0].human_geom, 12);  // geom id order
   EXPECT_DOUBLE_EQ(loads[0].normal_force, 10.0);
@@ -67,7 +70,7 @@ TEST(HumanContactLoads, SumsThePointsOfEachHumanGeomAndGradesThem) {
   EXPECT_DOUBLE_EQ(loads[1].normal_force, 160.0);
   EXPECT_EQ(loads[1].grade, ContactGrade::kAboveQuasiStatic);
   EXPECT_EQ(worst_grade(loads), ContactGrade::kAboveQuasiStatic);
-  human_contact_loads({}, &loads);
+  human_contact_loads({}, 2.0, &loads);
   EXPECT_TRUE(loads.empty());
   EXPECT_EQ(worst_grade(loads), ContactGrade::kNoForce);
 }
