@@ -1,14 +1,21 @@
 #include "policy/registry.h"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <fmt/format.h>
 #include <mutex>
+#include <system_error>
 
 #include "core/errors.h"
 #include "policy/builtin.h"
 
 namespace hribench::policy {
 namespace {
+
+constexpr uint64_t kMaxChunk = 100000;  // actions per chunk a built-in policy may be asked for
 
 std::map<std::string, PolicyEntry> make_builtins() {
   std::map<std::string, PolicyEntry> entries;
@@ -26,16 +33,11 @@ std::map<std::string, PolicyEntry> make_builtins() {
       [](PolicyRef ref) {
         const ActionSpace space = action_space_from_string(
             take_option(ref, "space", "ee_delta"), "policy random: space");
-        const double seed = take_option(ref, "seed", 0.0);
+        const uint64_t seed = take_integer_option(ref, "seed", 0, 0, UINT64_MAX);
         const double scale = take_option(ref, "scale", 1.0);
-        const double chunk = take_option(ref, "chunk", 1.0);
+        const uint64_t chunk = take_integer_option(ref, "chunk", 1, 1, kMaxChunk);
         reject_unknown_options(ref);
-        if (seed < 0 || seed != static_cast<double>(static_cast<uint64_t>(seed))) {
-          throw core::InputError("policy random: seed", "a non-negative integer",
-                                 std::to_string(seed));
-        }
-        return std::unique_ptr<Policy>(new RandomPolicy(space, static_cast<uint64_t>(seed),
-                                                        scale, ActionLimits{},
+        return std::unique_ptr<Policy>(new RandomPolicy(space, seed, scale, ActionLimits{},
                                                         static_cast<int>(chunk)));
       }};
   return entries;
@@ -100,8 +102,27 @@ double take_option(PolicyRef& ref, const std::string& key, double fallback) {
   ref.options.erase(it);
   char* end = nullptr;
   const double number = std::strtod(value.c_str(), &end);
-  if (value.empty() || end != value.c_str() + value.size()) {
-    throw core::InputError("policy " + ref.name + ": " + key, "a number", "'" + value + "'");
+  if (value.empty() || end != value.c_str() + value.size() || !std::isfinite(number)) {
+    throw core::InputError("policy " + ref.name + ": " + key, "a finite number", "'" + value + "'");
+  }
+  return number;
+}
+
+uint64_t take_integer_option(PolicyRef& ref, const std::string& key, uint64_t fallback,
+                             uint64_t min, uint64_t max) {
+  const auto it = ref.options.find(key);
+  if (it == ref.options.end()) return fallback;
+  const std::string value = it->second;
+  ref.options.erase(it);
+  // Exactly the decimal digits of an integer in range, nothing before or after.
+  uint64_t number = 0;
+  const char* first = value.data();
+  const char* last = value.data() + value.size();
+  const auto [ptr, ec] = std::from_chars(first, last, number);
+  if (ec != std::errc() || ptr != last || number < min ||
+      number > max) {
+    throw core::InputError("policy " + ref.name + ": " + key,
+                           fmt::format("an integer in [{}, {}]", min, max), "'" + value + "'");
   }
   return number;
 }

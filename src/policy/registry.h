@@ -7,6 +7,7 @@
 // with register_policy() (static registration objects in a static library would be dropped by
 // the linker, so registration is an explicit call).
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -31,7 +32,11 @@ PolicyRef parse_policy_ref(std::string_view text);
 // Reads option `key` (erasing it from the map) or returns `fallback`; throws core::InputError
 // if the value is not of the type asked for.
 std::string take_option(PolicyRef& ref, const std::string& key, const std::string& fallback);
-double take_option(PolicyRef& ref, const std::string& key, double fallback);
+double take_option(PolicyRef& ref, const std::string& key, double fallback);  // finite only
+// An integer option in [min, max], parsed exactly (decimal digits only: no sign, fraction,
+// exponent, hex, nan or inf); anything else throws core::InputError naming the range.
+uint64_t take_integer_option(PolicyRef& ref, const std::string& key, uint64_t fallback,
+                             uint64_t min, uint64_t max);
 // Throws core::InputError naming the first option left in `ref` (an unknown option).
 void reject_unknown_options(const PolicyRef& ref);
 

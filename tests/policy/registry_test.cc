@@ -56,7 +56,37 @@ TEST(Registry, BadReferencesAreInputErrors) {
     make_policy("random?seed=x");
     FAIL();
   } catch (const core::InputError& e) {
-    EXPECT_STREQ(e.what(), "policy random: seed: expected a number, got 'x'");
+    EXPECT_STREQ(e.what(), "policy random: seed: expected an integer in [0, 18446744073709551615], got 'x'");
+  }
+}
+
+TEST(Registry, IntegerOptionsAreExactIntegersInRange) {
+  auto big = make_policy("random?seed=18446744073709551615&chunk=100000");
+  EXPECT_EQ(big->spec().replan_every, 100000);
+  for (const char* seed : {"nan", "inf", "-1", "0x10", "1e3", "1.5", "+3", " 3", "3 ", "",
+                           "18446744073709551616", "1e30"}) {
+    try {
+      make_policy(std::string("random?seed=") + seed);
+      FAIL() << seed;
+    } catch (const core::InputError& e) {
+      EXPECT_EQ(std::string(e.what()), std::string("policy random: seed: expected an integer in "
+                                                   "[0, 18446744073709551615], got '") + seed + "'");
+    }
+  }
+  for (const char* chunk : {"0", "100001", "2147483648", "nan", "2.0"}) {
+    try {
+      make_policy(std::string("random?chunk=") + chunk);
+      FAIL() << chunk;
+    } catch (const core::InputError& e) {
+      EXPECT_EQ(std::string(e.what()),
+                std::string("policy random: chunk: expected an integer in [1, 100000], got '") + chunk + "'");
+    }
+  }
+  try {
+    make_policy("random?scale=nan");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "policy random: scale: expected a finite number, got 'nan'");
   }
 }
 
