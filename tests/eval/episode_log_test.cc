@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -32,8 +34,12 @@ EpisodeLog rich_log() {
   return log;
 }
 
+// A path unique to this process and test (parallel ctest runs never share one).
 std::filesystem::path temp_file(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("hribench_eval_" + name);
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  return std::filesystem::path(::testing::TempDir()) /
+         ("hribench_eval_" + std::string(test->test_suite_name()) + "_" + test->name() + "_" +
+          std::to_string(getpid()) + "_" + name);
 }
 
 TEST(EpisodeLog, RoundTripIsExact) {

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -31,6 +33,14 @@ RunResults sample_run() {
     run.episodes.push_back(make_result(log, compute_metrics(contract, log)));
   }
   return run;
+}
+
+// A path unique to this process and test (parallel ctest runs never share one).
+std::filesystem::path unique_temp_path(const std::string& name) {
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  return std::filesystem::path(::testing::TempDir()) /
+         ("hribench_eval_" + std::string(test->test_suite_name()) + "_" + test->name() + "_" +
+          std::to_string(getpid()) + "_" + name);
 }
 
 TEST(Report, ProvenanceAndConstantsInResults) {
@@ -88,7 +98,7 @@ TEST(Report, CompareRuns) {
 }
 
 TEST(Report, WriteAndLoadRun) {
-  const auto dir = std::filesystem::temp_directory_path() / "hribench_eval_report_test";
+  const auto dir = unique_temp_path("report");
   std::filesystem::remove_all(dir);
   const RunResults run = sample_run();
   write_run(dir, run);
@@ -107,7 +117,7 @@ TEST(Report, WriteAndLoadRun) {
 }
 
 TEST(Report, EpisodeLinesSurviveAKilledWrite) {
-  const auto path = std::filesystem::temp_directory_path() / "hribench_eval_lines_test.jsonl";
+  const auto path = unique_temp_path("lines.jsonl");
   std::filesystem::remove(path);
   const RunResults run = sample_run();
   for (const EpisodeResult& r : run.episodes) append_episode_line(path, r);
