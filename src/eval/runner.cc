@@ -95,7 +95,6 @@ struct Episode {
   sim::Data& data;
   sim::SeparationMonitor monitor;
   std::vector<sim::Contact> contacts;
-  std::vector<mjtNum> jacp;
 };
 
 core::Pose body_pose(const mjData& d, int body) {
@@ -123,18 +122,9 @@ StepRecord record_step(Episode& e) {
   // d(t) and the velocity of the robot's closest point.
   const sim::Separation sep = sim::min_separation(e.monitor, data);
   s.separation = sep.distance;
-  if (sep.valid()) {
-    const int body = m.geom_bodyid[sep.robot_geom];
-    mj_jac(&m, &d, e.jacp.data(), nullptr, sep.point_robot_W.data(), body);
-    core::Vec3 v = core::Vec3::Zero();
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < m.nv; ++c) v[r] += e.jacp[static_cast<size_t>(r * m.nv + c)] * d.qvel[c];
-    }
-    const core::Vec3 toward = sep.point_human_W - sep.point_robot_W;
-    const double n = toward.norm();
-    s.approach_speed = n > 1e-12 ? v.dot(toward / n) : 0.0;
-    s.closest_point_speed = v.norm();
-  }
+  const sim::RobotPointMotion motion = sim::robot_point_motion(m, d, sep);
+  s.approach_speed = motion.speed_toward_human;
+  s.closest_point_speed = motion.velocity_W.norm();
   sim::find_contacts(model, data, &e.contacts);
   s.contacts = robot_contacts(model, e.contacts);
   return s;
@@ -221,8 +211,7 @@ EpisodeLog run_episode(const model::Model& model, sim::Data& data, policy::Polic
   sim::reset(model, data);
   driver.reset(model, data);
   sim::forward(model, data);
-  Episode e{model, data, sim::SeparationMonitor::FromModel(model), {},
-            std::vector<mjtNum>(static_cast<size_t>(3 * model.m()->nv))};
+  Episode e{model, data, sim::SeparationMonitor::FromModel(model), {}};
   // Ends the episode with a status other than ok.
   const auto end_with = [&](core::EpisodeStatus status, std::string reason) {
     log.status = status;

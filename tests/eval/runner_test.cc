@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <limits>
 
 #include "core/errors.h"
 #include "eval/metrics.h"
 #include "eval/parallel.h"
+#include "human/skeleton.h"
 #include "model/model.h"
 #include "policy/builtin.h"
 #include "sim/control.h"
@@ -191,6 +193,72 @@ TEST_F(RunnerTest, EndsOnceSuccessHasHeldHalfASecond) {
   const EpisodeMetrics m = compute_metrics(ScenarioContract{}, log);
   EXPECT_TRUE(m.success);
   EXPECT_NEAR(m.completion_time, 0.3, 1e-9);
+}
+
+// The human's right arm raised forward, its hand swept along +y at 1 m/s through the Panda's
+// forearm (link 5): the hand comes from -y and shoves the robot ahead of it.
+class HandSweepDriver : public ScenarioDriver {
+ public:
+  std::vector<std::string> predicate_names() const override { return {"success"}; }
+  void reset(const model::Model& model, sim::Data& data) override {
+    pose_ = human::SkeletonPose::Standing(model.skeleton, 0, 0, core::kPi);
+    pose_.local[static_cast<size_t>(human::index(human::Joint::kRightShoulder))] =
+        core::axis_angle(core::Vec3::UnitY(), -core::kPi / 2);
+    sim::forward(model, data);
+    const mjData& d = *data.mj;
+    const auto link5_body = static_cast<size_t>(model.link_body[5]);
+    const core::Vec3 link5(d.xpos[3 * link5_body], d.xpos[3 * link5_body + 1], d.xpos[3 * link5_body + 2]);
+    size_t hand = 0;
+    for (size_t i = 0; i < model.human_capsules.size(); ++i) {
+      if (model.human_capsules[i].name == "right_hand") hand = i;
+    }
+    const human::BodyCapsule& capsule = model.human_capsules[hand];
+    const auto X_WJ = human::forward_kinematics(model.skeleton, pose_);
+    const core::Vec3 hand_mid =
+        X_WJ[static_cast<size_t>(human::index(capsule.joint))] * core::Vec3(0.5 * (capsule.from + capsule.to));
+    start_ = pose_.X_WP.translation + (link5 + core::Vec3(-0.12, 0, 0) - hand_mid);
+    Place(model, data);
+  }
+  void drive(const model::Model& model, sim::Data& data) override { Place(model, data); }
+  void observe(const model::Model&, const sim::Data&, std::vector<uint8_t>& predicates,
+               std::vector<Event>&) override {
+    predicates.assign(1, 0);
+  }
+
+ private:
+  void Place(const model::Model& model, sim::Data& data) {
+    human::SkeletonPose pose = pose_;
+    pose.X_WP.translation = start_ + core::Vec3(0, -0.6 + 1.0 * data.time(), 0);
+    sim::set_human_pose(model, data, pose);
+  }
+  human::SkeletonPose pose_;
+  core::Vec3 start_ = core::Vec3::Zero();
+};
+
+TEST_F(RunnerTest, RobotShovedByThePenetratingHumanMovesAwayFromIt) {
+  // In the first 50 ms after the hand enters the robot (negative separation), the robot's
+  // closest point is shoved along +y, straight away from the human: its speed toward the human
+  // is negative and almost its whole speed. (Normalising by |point_human - point_robot| instead
+  // of the signed distance flips this sign, so a shove would count as an approach and a push
+  // into the human as a retreat.)
+  policy::NoopPolicy noop;
+  HandSweepDriver driver;
+  RunOptions options;
+  options.horizon = 0.8;
+  options.control_dt = 0.002;
+  const EpisodeLog log = run_episode(*model_, *data_, noop, driver, setup("noop"), options);
+  ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
+  std::optional<double> entered;
+  int shoved = 0;
+  for (const StepRecord& s : log.steps) {
+    if (!entered && s.separation < 0) entered = s.time;
+    if (!entered || s.time > *entered + 0.05 || s.closest_point_speed < 0.05) continue;
+    ASSERT_LT(s.separation, 0.0) << "t = " << s.time;
+    ++shoved;
+    EXPECT_LT(s.approach_speed, -0.9 * s.closest_point_speed)
+        << "t = " << s.time << ", d = " << s.separation;
+  }
+  EXPECT_GT(shoved, 10);
 }
 
 TEST_F(RunnerTest, CamerasAreRefusedUntilRenderingIsWired) {
