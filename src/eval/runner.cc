@@ -22,12 +22,18 @@ Latency parse_latency(std::string_view text) {
   if (text == "none") return {LatencyMode::kNone, 0};
   if (text == "measured") return {LatencyMode::kMeasured, 0};
   if (text.substr(0, 6) == "fixed:") {
+    // A finite delay of at most a minute (longer is no interaction, and would overflow the
+    // control-step count).
     const std::string ms(text.substr(6));
     char* end = nullptr;
     const double value = std::strtod(ms.c_str(), &end);
-    if (!ms.empty() && end == ms.c_str() + ms.size() && std::isfinite(value) && value >= 0) {
-      return {LatencyMode::kFixed, value / 1000.0};
+    if (ms.empty() || end != ms.c_str() + ms.size() || !std::isfinite(value) || value < 0 ||
+        value > kMaxFixedLatencyMs) {
+      throw core::InputError("--latency",
+                             fmt::format("fixed:MS with MS milliseconds in [0, {}]", kMaxFixedLatencyMs),
+                             "'" + std::string(text) + "'");
     }
+    return {LatencyMode::kFixed, value / 1000.0};
   }
   throw core::InputError("--latency", "none, fixed:MS (milliseconds >= 0) or measured",
                          "'" + std::string(text) + "'");

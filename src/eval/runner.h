@@ -35,8 +35,9 @@ struct Latency {
   LatencyMode mode = LatencyMode::kNone;
   double fixed_seconds = 0;  // kFixed only, >= 0
 };
-// "none" | "fixed:MS" (MS a non-negative number of milliseconds) | "measured"; throws
-// core::InputError (where "--latency") otherwise.
+// "none" | "fixed:MS" (MS a number of milliseconds in [0, kMaxFixedLatencyMs]) | "measured";
+// throws core::InputError (where "--latency") otherwise.
+inline constexpr double kMaxFixedLatencyMs = 60000;
 Latency parse_latency(std::string_view text);
 std::string to_string(const Latency& latency);
 

@@ -26,7 +26,19 @@ TEST(Latency, ParsesTheThreeModes) {
   EXPECT_EQ(fixed.mode, LatencyMode::kFixed);
   EXPECT_DOUBLE_EQ(fixed.fixed_seconds, 0.2);
   EXPECT_EQ(to_string(fixed), "fixed:200");
-  for (const char* bad : {"fixed:", "fixed:-5", "fixed:abc", "slow", ""}) {
+  EXPECT_DOUBLE_EQ(parse_latency("fixed:60000").fixed_seconds, 60.0);
+  for (const char* bad : {"fixed:", "fixed:-5", "fixed:abc", "fixed:nan", "fixed:inf", "fixed:-inf",
+                          "fixed:60000.5", "fixed:1e30", "fixed:5ms"}) {
+    try {
+      parse_latency(bad);
+      FAIL() << bad;
+    } catch (const core::InputError& e) {
+      EXPECT_EQ(std::string(e.what()),
+                std::string("--latency: expected fixed:MS with MS milliseconds in [0, 60000], got '") +
+                    bad + "'");
+    }
+  }
+  for (const char* bad : {"slow", "", "fixed"}) {
     try {
       parse_latency(bad);
       FAIL() << bad;
