@@ -1,12 +1,14 @@
 #include "eval/runner.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <deque>
 #include <fmt/format.h>
-#include <map>
+#include <optional>
+#include <tuple>
 
 #include <mujoco/mujoco.h>
 
@@ -60,11 +62,53 @@ bool is_fixture(model::ObjectKind kind) {
          kind == model::ObjectKind::kTray || kind == model::ObjectKind::kPlate;
 }
 
-// The robot's contacts, one per (robot part, other) pair with the forces summed.
-std::vector<Contact> robot_contacts(const model::Model& model, const std::vector<sim::Contact>& all) {
-  std::map<std::pair<std::string, std::string>, Contact> pairs;
+// One (robot part, other party) pair among a step's contacts, keyed by ids so that names are
+// made once per pair, not once per contact point.
+struct ContactPair {
+  std::array<int, 4> key{};             // robot owner, robot index, other owner, other id
+  const sim::Contact* first = nullptr;  // the pair's first contact (names its parties)
+  double normal_force = 0;              // N, summed over the pair's contacts
+};
+
+// Ids that name a party exactly as robot_contacts names it.
+std::array<int, 4> pair_key(const sim::Contact& c) {
+  int other = c.b.geom;  // environment geoms are named by geom
+  switch (c.b.owner) {
+    case model::GeomOwner::kHuman:
+    case model::GeomOwner::kObject:
+      other = c.b.index;
+      break;
+    case model::GeomOwner::kTable:
+    case model::GeomOwner::kFloor:
+    case model::GeomOwner::kPlatform:
+      other = 0;
+      break;
+    default:
+      break;
+  }
+  const int robot = c.a.owner == model::GeomOwner::kRobotHand ? 0 : c.a.index;
+  return {static_cast<int>(c.a.owner), robot, static_cast<int>(c.b.owner), other};
+}
+
+// The robot's contacts, one per (robot part, other) pair with the forces summed, ordered by
+// (robot part, other) name. `pairs` is scratch, reused between steps.
+std::vector<Contact> robot_contacts(const model::Model& model, const std::vector<sim::Contact>& all,
+                                    std::vector<ContactPair>& pairs) {
+  // Sum the forces per pair (a sorted vector: a step has few pairs).
+  pairs.clear();
   for (const sim::Contact& c : all) {
     if (!c.a.is_robot() || c.b.is_robot()) continue;  // robot vs something else only
+    const std::array<int, 4> key = pair_key(c);
+    auto it = std::lower_bound(pairs.begin(), pairs.end(), key,
+                               [](const ContactPair& p, const std::array<int, 4>& k) { return p.key < k; });
+    if (it == pairs.end() || it->key != key) it = pairs.insert(it, ContactPair{key, &c, 0.0});
+    it->normal_force += c.normal_force;
+  }
+  // Name each pair once.
+  std::vector<Contact> contacts;
+  contacts.reserve(pairs.size());
+  for (const ContactPair& p : pairs) {
+    const sim::Contact& c = *p.first;
     Contact out;
     out.robot_part = sim::party_name(model, c.a);
     out.robot_finger = c.a.owner == model::GeomOwner::kRobotFinger;
@@ -85,13 +129,25 @@ std::vector<Contact> robot_contacts(const model::Model& model, const std::vector
         out.other = sim::party_name(model, c.b);
         break;
     }
-    out.normal_force = c.normal_force;
-    const auto key = std::make_pair(out.robot_part, out.other);
-    auto [it, inserted] = pairs.emplace(key, out);
-    if (!inserted) it->second.normal_force += c.normal_force;
+    out.normal_force = p.normal_force;
+    contacts.push_back(std::move(out));
   }
-  std::vector<Contact> contacts;
-  for (auto& [key, contact] : pairs) contacts.push_back(std::move(contact));
+  // Name order; should two pairs share names, they are one contact.
+  const auto by_name = [](const Contact& a, const Contact& b) {
+    return std::tie(a.robot_part, a.other) < std::tie(b.robot_part, b.other);
+  };
+  std::sort(contacts.begin(), contacts.end(), by_name);
+  size_t kept = 0;
+  for (size_t i = 0; i < contacts.size(); ++i) {
+    if (kept > 0 && contacts[kept - 1].robot_part == contacts[i].robot_part &&
+        contacts[kept - 1].other == contacts[i].other) {
+      contacts[kept - 1].normal_force += contacts[i].normal_force;
+    } else {
+      if (kept != i) contacts[kept] = std::move(contacts[i]);
+      ++kept;
+    }
+  }
+  contacts.resize(kept);
   return contacts;
 }
 
@@ -101,6 +157,7 @@ struct Episode {
   sim::Data& data;
   sim::SeparationMonitor monitor;
   std::vector<sim::Contact> contacts;
+  std::vector<ContactPair> pairs;  // scratch of robot_contacts
 };
 
 core::Pose body_pose(const mjData& d, int body) {
@@ -132,7 +189,7 @@ StepRecord record_step(Episode& e) {
   s.approach_speed = motion.speed_toward_human;
   s.closest_point_speed = motion.velocity_W.norm();
   sim::find_contacts(model, data, &e.contacts);
-  s.contacts = robot_contacts(model, e.contacts);
+  s.contacts = robot_contacts(model, e.contacts, e.pairs);
   return s;
 }
 
@@ -174,14 +231,6 @@ void apply_action(const model::Model& model, sim::Data& data, policy::ActionSpac
   sim::set_gripper_width(model, data, a.back() * model::kGripperMaxWidth);
 }
 
-// True once the "success" series (if any) has held for `hold` seconds up to the last step.
-bool success_held(const EpisodeLog& log, double hold, double eps) {
-  const std::optional<size_t> index = log.predicate_index("success");
-  if (!index) return false;
-  const std::optional<double> since = final_run_start(log, *index);
-  return since && log.steps.back().time - *since >= hold - eps;
-}
-
 }  // namespace
 
 EpisodeLog run_episode(const model::Model& model, sim::Data& data, policy::Policy& policy,
@@ -217,17 +266,31 @@ EpisodeLog run_episode(const model::Model& model, sim::Data& data, policy::Polic
   sim::reset(model, data);
   driver.reset(model, data);
   sim::forward(model, data);
-  Episode e{model, data, sim::SeparationMonitor::FromModel(model), {}};
+  Episode e{model, data, sim::SeparationMonitor::FromModel(model), {}, {}};
   // Ends the episode with a status other than ok.
   const auto end_with = [&](core::EpisodeStatus status, std::string reason) {
     log.status = status;
     log.status_reason = std::move(reason);
   };
+  // Start of the current run of "success" steps (what final_run_start would say), kept as the
+  // steps come so the stop check does not rescan the log.
+  const std::optional<size_t> success_index = log.predicate_index("success");
+  std::optional<double> success_since;
   // Records the current state as a step.
   const auto record = [&] {
     StepRecord s = record_step(e);
     driver.observe(model, data, s.predicates, log.events);
+    if (success_index && *success_index < s.predicates.size() && s.predicates[*success_index]) {
+      if (!success_since) success_since = s.time;
+    } else {
+      success_since.reset();
+    }
     log.steps.push_back(std::move(s));
+  };
+  // True once "success" has held for constants.success_hold up to the last step.
+  const auto success_held = [&] {
+    return success_since &&
+           log.steps.back().time - *success_since >= options.constants.success_hold - eps;
   };
 
   policy::EpisodeInfo info{setup.task, setup.instruction, setup.seed, options.horizon,
@@ -289,7 +352,7 @@ EpisodeLog run_episode(const model::Model& model, sim::Data& data, policy::Polic
       return log;
     }
     record();
-    if (options.stop_on_success && success_held(log, options.constants.success_hold, eps)) break;
+    if (options.stop_on_success && success_held()) break;
   }
   return log;
 }
