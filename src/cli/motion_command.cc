@@ -42,7 +42,8 @@ struct MotionOptions {
   std::string place;   // "x,y,yaw_deg"
   double time_scale = 1;
   std::string up = "auto";
-  double unit = 0;     // 0 = guess
+  double unit = 0;     // metres per file unit; guessed unless unit_given
+  bool unit_given = false;
 };
 
 // ---- parameter parsing ----------------------------------------------------------------------
@@ -291,7 +292,29 @@ bool looks_like_file(const std::string& source) {
   return ext == ".bvh" || ext == ".npy" || ext == ".npz" || ext == ".json";
 }
 
+// Rejects out-of-range flags before any work, so a bad value is one line (exit 2), never an
+// internal check failure or an unbounded allocation (frames = duration * fps * time scale).
+void check_flags(const MotionOptions& o) {
+  if (!(o.fps > 0 && o.fps <= 1000)) {
+    throw core::InputError("--fps", "a frame rate in (0, 1000] fps", fmt::format("{}", o.fps));
+  }
+  if (!(o.time_scale > 0 && o.time_scale <= 100)) {
+    throw core::InputError("--time-scale", "a factor in (0, 100]", fmt::format("{}", o.time_scale));
+  }
+  if (o.unit_given && !(o.unit > 0 && std::isfinite(o.unit))) {
+    throw core::InputError("--unit", "a positive number of metres per file unit (e.g. 0.01)",
+                           fmt::format("{}", o.unit));
+  }
+  // The skeleton's own range check, reported against the flag.
+  try {
+    static_cast<void>(human::Skeleton::FromHeight(o.height));
+  } catch (const core::InputError& e) {
+    throw core::InputError("--height", e.expected(), fmt::format("{}", o.height));
+  }
+}
+
 int run_motion(const MotionOptions& o) {
+  check_flags(o);
   double x = 0, y = 0, yaw_deg = 0;
   if (!o.place.empty()) {
     const auto v = parse_numbers(o.place, 3, "--place");
@@ -316,7 +339,7 @@ int run_motion(const MotionOptions& o) {
     human::RetargetOptions options;
     if (o.height_given) options.height = o.height;
     if (o.fps_given) options.fps = o.fps;
-    if (o.unit > 0) options.unit_scale = o.unit;
+    if (o.unit_given) options.unit_scale = o.unit;
     if (o.up == "y") options.up = human::UpAxis::kY;
     else if (o.up == "z") options.up = human::UpAxis::kZ;
     else if (o.up != "auto") throw core::InputError("--up", "auto, y or z", fmt::format("'{}'", o.up));
@@ -360,7 +383,8 @@ HRIB_REGISTER_COMMAND(
       app.add_option("--place", o->place, "x,y,yaw_deg: start (primitives) or placement (files) in the world");
       app.add_option("--time-scale", o->time_scale, "play the clip this many times as long")->capture_default_str();
       app.add_option("--up", o->up, "files: up axis auto, y or z")->capture_default_str();
-      app.add_option("--unit", o->unit, "BVH: metres per file unit (default: guessed)");
+      app.add_option("--unit", o->unit, "BVH: metres per file unit, e.g. 0.01 for cm (default: guessed)")
+          ->each([o](const std::string&) { o->unit_given = true; });
       return [o] { return run_motion(*o); };
     });
 

@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
+#include <string>
 
 #include "human/clip_io.h"
 #include "render/png.h"
@@ -16,8 +19,11 @@ using ::hribench::testing::count_lines;
 using ::hribench::testing::run_hribench;
 namespace fs = std::filesystem;
 
+// A directory of this test and process alone, so parallel runs (other build dirs) never share one.
 fs::path out_dir() {
-  const fs::path dir = fs::temp_directory_path() / "hribench_motion_command_test";
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("hribench_motion_command_test_" + test + "_" + std::to_string(getpid()));
   fs::create_directories(dir);
   return dir;
 }
@@ -90,6 +96,45 @@ TEST(MotionCommandTest, BadParametersAndFilesAreOneLine) {
   r = run_hribench("motion point --out " + (out_dir() / "x.fbx").string());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("expected an output file ending in .json, .bvh, .npy or .npz"), std::string::npos) << r.output;
+}
+
+// Out-of-range flags are one line naming the flag, the range and the value: never an internal
+// check failure (fps <= 0) or an unbounded allocation (huge fps or time scale).
+TEST(MotionCommandTest, OutOfRangeFlagsAreOneLine) {
+  const std::string out = " --out " + (out_dir() / "x.json").string();
+  const struct {
+    const char* flags;
+    const char* message;
+  } cases[] = {
+      {"--fps 0", "--fps: expected a frame rate in (0, 1000] fps, got 0"},
+      {"--fps=-5", "--fps: expected a frame rate in (0, 1000] fps, got -5"},
+      {"--fps 1e9", "--fps: expected a frame rate in (0, 1000] fps, got 1000000000"},
+      {"--time-scale 0", "--time-scale: expected a factor in (0, 100], got 0"},
+      {"--time-scale=-2", "--time-scale: expected a factor in (0, 100], got -2"},
+      {"--time-scale 1e12", "--time-scale: expected a factor in (0, 100], got 1000000000000"},
+      {"--height 0.5", "--height: expected a standing height in [1.0, 2.5] m, got 0.5"},
+      {"--height 3", "--height: expected a standing height in [1.0, 2.5] m, got 3"},
+      {"--unit 0", "--unit: expected a positive number of metres per file unit (e.g. 0.01), got 0"},
+      {"--unit=-0.01", "--unit: expected a positive number of metres per file unit (e.g. 0.01), got -0.01"},
+  };
+  for (const auto& c : cases) {
+    for (const char* source : {"point", "../shared/data/motion/cmu_131_01.bvh"}) {
+      const auto r = run_hribench(std::string("motion ") + source + " " + c.flags + out);
+      EXPECT_EQ(r.exit_code, 2) << c.flags << " " << source << ": " << r.output;
+      EXPECT_EQ(count_lines(r.output), 1) << c.flags << " " << source << ": " << r.output;
+      EXPECT_NE(r.output.find(c.message), std::string::npos) << c.flags << " " << source << ": " << r.output;
+    }
+  }
+}
+
+// The edges of the ranges are accepted.
+TEST(MotionCommandTest, FlagsAtTheirLimitsAreAccepted) {
+  const auto r = run_hribench("motion idle --param duration=0.1 --fps 1000 --time-scale 0.5 --height 2.5 --out " +
+                              (out_dir() / "edge.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const human::Clip c = human::read_clip(out_dir() / "edge.json");
+  EXPECT_EQ(c.fps, 1000.0);
+  EXPECT_DOUBLE_EQ(c.skeleton.height, 2.5);
 }
 
 }  // namespace
