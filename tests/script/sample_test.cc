@@ -27,6 +27,13 @@ TEST(SampleTest, SameSeedGivesTheSameSpecAndHash) {
   EXPECT_EQ(spec_hash(a).size(), 64U);
 }
 
+// Pinned across processes, builds and machines: a change here means the released episode pool
+// changes (every spec drawn from the scenarios changes), so the pool's version must be bumped.
+TEST(SampleTest, TheHandoverAtSeed42HasItsPinnedHash) {
+  EXPECT_EQ(spec_hash(sample(load_scenario(kHandover), 42)),
+            "2ef221087667f968750d8b862478e91180f59d8150affd0370d9fcf714d6589e");
+}
+
 TEST(SampleTest, DifferentSeedsGiveDifferentSpecs) {
   const Scenario scenario = load_scenario(kHandover);
   std::set<std::string> hashes;
