@@ -3,9 +3,12 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
 
 #include "core/errors.h"
 #include "human/bvh.h"
@@ -19,8 +22,11 @@ namespace {
 namespace fs = std::filesystem;
 using core::Vec3;
 
+// A directory of this test and process alone, so parallel runs (other build dirs) never share one.
 fs::path temp_dir() {
-  const fs::path dir = fs::temp_directory_path() / "hribench_clip_io_test";
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("hribench_clip_io_test_" + test + "_" + std::to_string(getpid()));
   fs::create_directories(dir);
   return dir;
 }
@@ -269,6 +275,15 @@ TEST(ClipIoTest, TruncatedOrCorruptedFilesNeverCrash) {
   }
   const size_t motion = bvh.find("MOTION");
   for (size_t n = 0; n < motion + 40; n += 11) attempt(bvh.substr(0, n), "cut.bvh");
+  // BVH flips: 0x5a turns digits and spaces into letters, 0x01 turns digits into other digits
+  // (channel counts, the frame count, the frame time, offsets and angles change value).
+  for (const char mask : {'\x5a', '\x01'}) {
+    for (size_t i = 0; i < bvh.size(); ++i) {
+      std::string bad = bvh;
+      bad[i] = static_cast<char>(bad[i] ^ mask);
+      attempt(bad, "flip.bvh");
+    }
+  }
   EXPECT_GT(refused, 500);
   EXPECT_GT(read, 0);  // flips in unused bytes (names, padding) still read
 }
