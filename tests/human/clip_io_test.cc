@@ -275,15 +275,23 @@ TEST(ClipIoTest, TruncatedOrCorruptedFilesNeverCrash) {
   }
   const size_t motion = bvh.find("MOTION");
   for (size_t n = 0; n < motion + 40; n += 11) attempt(bvh.substr(0, n), "cut.bvh");
-  // BVH flips: 0x5a turns digits and spaces into letters, 0x01 turns digits into other digits
-  // (channel counts, the frame count, the frame time, offsets and angles change value).
+  // BVH flips, in a whole file (three frames) so that a harmless flip still reads: 0x5a turns
+  // digits and spaces into letters, 0x01 turns digits into other digits (channel counts, the
+  // frame count, the frame time, offsets and angles change value).
+  const int refused_before_bvh_flips = refused, read_before_bvh_flips = read;
+  Clip short_clip = testing::synthetic_clip();
+  short_clip.frames.resize(3);
+  short_clip.phases.clear();
+  const std::string whole_bvh = format_bvh(bvh_from_clip(short_clip, BvhRotationOrder::kZYX));
   for (const char mask : {'\x5a', '\x01'}) {
-    for (size_t i = 0; i < bvh.size(); ++i) {
-      std::string bad = bvh;
+    for (size_t i = 0; i < whole_bvh.size(); ++i) {
+      std::string bad = whole_bvh;
       bad[i] = static_cast<char>(bad[i] ^ mask);
       attempt(bad, "flip.bvh");
     }
   }
+  EXPECT_GT(refused, refused_before_bvh_flips);  // letters where numbers belong, bad names
+  EXPECT_GT(read, read_before_bvh_flips);        // changed angles and offsets still read
   EXPECT_GT(refused, 500);
   EXPECT_GT(read, 0);  // flips in unused bytes (names, padding) still read
 }
