@@ -1,0 +1,359 @@
+#include "eval/script_driver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "core/errors.h"
+#include "human/primitives.h"
+#include "sim/contact.h"
+#include "sim/control.h"
+#include "sim/hold.h"
+
+namespace hribench::eval {
+namespace {
+
+constexpr double kDegToRad = core::kPi / 180;
+
+std::string object_where(const std::string& name) { return "scene.objects." + name; }
+
+const script::Entry<script::SceneObject>* find_object(const script::EpisodeSpec& spec,
+                                                       const std::string& name) {
+  for (const script::Entry<script::SceneObject>& o : spec.scene.objects) {
+    if (o.name == name) return &o;
+  }
+  return nullptr;
+}
+
+// Footprint x/y of an object from its pose, or its container's (nullopt: neither).
+std::optional<std::pair<double, double>> footprint(const script::EpisodeSpec& spec,
+                                                    const script::SceneObject& object, int depth) {
+  if (object.pose && object.pose->xy.size() == 2) {
+    return std::make_pair(object.pose->xy[0].value(), object.pose->xy[1].value());
+  }
+  if (object.in && depth < 8) {
+    const script::Entry<script::SceneObject>* container = find_object(spec, object.in->value());
+    if (container != nullptr) return footprint(spec, container->value, depth + 1);
+  }
+  return std::nullopt;
+}
+
+// Pose of an object's bounding-box centre from its freejoint state (always current).
+core::Pose object_centre_pose(const model::Model& model, const sim::Data& data, size_t object) {
+  const model::ObjectInfo& info = model.objects[object];
+  const mjtNum* q = data.mj->qpos + info.qpos_adr;
+  core::Pose X_WB{core::quat_from_wxyz(q + 3).normalized(), core::Vec3(q[0], q[1], q[2])};
+  core::Pose X_BC;
+  X_BC.translation = core::Vec3(0, 0, info.half_extents.z());
+  return X_WB * X_BC;
+}
+
+const human::Joint kWrist[2] = {human::Joint::kLeftWrist, human::Joint::kRightWrist};
+const human::Side kSides[2] = {human::Side::kLeft, human::Side::kRight};
+
+}  // namespace
+
+model::SceneSpec scene_spec_from_episode(const script::EpisodeSpec& spec) {
+  model::SceneSpec scene;
+  scene.objects.clear();
+  for (const script::Entry<script::SceneObject>& entry : spec.scene.objects) {
+    const script::SceneObject& o = entry.value;
+    const std::string where = object_where(entry.name);
+    const std::string& kind = o.kind.value();
+    if (!model::object_kind_from_name(kind)) {
+      throw core::InputError(where, "an object kind the model builds (cube, cup, bottle, plate, bin, tray, box, plank)", kind);
+    }
+    if (!o.size.empty()) {
+      throw core::InputError::Message(where, "an explicit size is not supported by the model (only the kind's size)");
+    }
+    model::ObjectSpec object;
+    object.kind = kind;
+    object.name = entry.name;
+    if (o.color) object.colour = o.color->value() == "gray" ? "grey" : o.color->value();
+    if (o.held_by) {
+      const std::string& hand = o.held_by->value();
+      if (hand == "human.left") {
+        object.held_by = human::Side::kLeft;
+      } else if (hand == "human.right") {
+        object.held_by = human::Side::kRight;
+      } else {
+        throw core::InputError(where + ".held_by", "human.left or human.right", hand);
+      }
+    } else {
+      const std::optional<std::pair<double, double>> xy = footprint(spec, o, 0);
+      if (!xy) throw core::InputError::Message(where, "needs a pose, a container (in) or a hand (held_by)");
+      object.x = xy->first;
+      object.y = xy->second;
+    }
+    if (o.pose) object.yaw = o.pose->yaw_deg.value() * kDegToRad;
+    scene.objects.push_back(object);
+  }
+  scene.human.height = spec.human.height.value();
+  scene.human.x = spec.human.stand.x.value();
+  scene.human.y = spec.human.stand.y.value();
+  scene.human.yaw = spec.human.stand.yaw_deg.value() * kDegToRad;
+  scene.human.handedness =
+      spec.human.handedness.value() == "left" ? human::Side::kLeft : human::Side::kRight;
+  return scene;
+}
+
+human::PrimitiveParams primitive_params(
+    const script::EpisodeSpec& spec, size_t act,
+    const std::function<core::Vec3(const std::string&)>& object_centre) {
+  HRIB_CHECK(act < spec.acts.size()) << act;
+  const script::Entry<script::Act>& entry = spec.acts[act];
+  const std::string where = "acts." + entry.name + ".motion";
+  if (!entry.value.motion || !entry.value.motion->primitive) {
+    throw core::InputError::Message(where, "no primitive motion to plan");
+  }
+  const script::Motion& motion = *entry.value.motion;
+  human::PrimitiveParams p;
+  p.primitive = motion.primitive->value();
+  p.seed = spec.seed * 1000003ULL + act;
+  const human::PrimitiveInfo* info = human::find_primitive(p.primitive);
+  if (info == nullptr) throw core::InputError(where + ".primitive", "a catalog primitive", p.primitive);
+  // A point: an object's centre (name) or [x, y, z].
+  const auto point = [&](const script::ValueTree& t) {
+    if (t.kind == script::ValueTree::Kind::kScalar) return object_centre(t.scalar.expr.text);
+    if (t.items.size() != 3) throw core::InputError::Message(where, "a point needs [x, y, z]");
+    return core::Vec3(t.items[0].scalar.expr.number, t.items[1].scalar.expr.number,
+                      t.items[2].scalar.expr.number);
+  };
+  for (const script::Entry<script::ValueTree>& e : motion.params) {
+    const script::ValueTree& v = e.value;
+    const human::ParamInfo* param = info->param(e.name);
+    if (param == nullptr) continue;  // script-level keys (onset) are not primitive parameters
+    switch (param->kind) {
+      case human::ParamKind::kNumber: p.numbers[e.name] = v.scalar.expr.number; break;
+      case human::ParamKind::kSide:
+      case human::ParamKind::kChoice: p.choices[e.name] = v.scalar.expr.text; break;
+      case human::ParamKind::kPoint: p.points[e.name] = point(v); break;
+      case human::ParamKind::kPoints:
+        for (const script::ValueTree& item : v.items) p.paths[e.name].push_back(point(item));
+        break;
+      case human::ParamKind::kZone:
+        for (size_t i = 0; i < v.keys.size() && i < v.items.size(); ++i) {
+          if (v.keys[i] == "center") p.zones[e.name].center = point(v.items[i]);
+          if (v.keys[i] == "radius") p.zones[e.name].radius = v.items[i].scalar.expr.number;
+        }
+        break;
+      case human::ParamKind::kObject: p.objects[e.name] = v.scalar.expr.text; break;
+    }
+  }
+  return p;
+}
+
+ScriptDriver::ScriptDriver(script::EpisodeSpec spec)
+    : spec_(std::move(spec)), graph_(script::compile(spec_)), runtime_(script::make_runtime(graph_)) {
+  // What each event id means in the log.
+  event_info_.resize(graph_.event_names.size());
+  for (size_t i = 0; i < event_info_.size(); ++i) event_info_[i].name = graph_.event_names[i];
+  const auto set = [&](int id, EventKind kind, Actor actor) {
+    if (id < 0) return;
+    event_info_[static_cast<size_t>(id)].kind = kind;
+    event_info_[static_cast<size_t>(id)].actor = actor;
+  };
+  for (const script::CompiledAct& act : graph_.acts) {
+    const Actor actor = act.human ? Actor::kHuman : Actor::kRobot;
+    set(act.start_event, EventKind::kActStart, actor);
+    set(act.end_event, EventKind::kActEnd, actor);
+    set(act.skipped_event, EventKind::kWarning, actor);
+    if (act.skipped_event >= 0) event_info_[static_cast<size_t>(act.skipped_event)].detail = "skipped";
+    for (const script::CompiledPhase& phase : act.phases) set(phase.event, EventKind::kPhase, actor);
+    if (act.cue && act.cue->event >= 0) event_info_[static_cast<size_t>(act.cue->event)].cue_kind = act.cue->kind;
+  }
+  for (size_t w = 0; w < graph_.watched.size(); ++w) {
+    for (const auto& [id, truth] : {std::pair{graph_.watch_true_event[w], "true"},
+                                    std::pair{graph_.watch_false_event[w], "false"}}) {
+      if (id < 0) continue;
+      EventInfo& info = event_info_[static_cast<size_t>(id)];
+      info.kind = EventKind::kPredicateChange;
+      info.detail = truth;
+      const size_t colon = info.name.rfind(':');
+      if (colon != std::string::npos) info.name = info.name.substr(0, colon);
+    }
+  }
+}
+
+void ScriptDriver::reset(const model::Model& model, sim::Data& data) {
+  script::reset(graph_, runtime_);
+  motions_.assign(graph_.acts.size(), ActMotion{});
+  active_ = -1;
+  last_holding_ = {};
+  events_seen_ = 0;
+  // Graph objects in the model.
+  object_of_graph_.clear();
+  world_.objects.assign(graph_.objects.size(), script::ObjectState{});
+  for (size_t i = 0; i < graph_.objects.size(); ++i) {
+    const int index = model.object_index(graph_.objects[i]);
+    if (index < 0) {
+      throw core::InputError::Message(object_where(graph_.objects[i]),
+                                      "not in the model (build it with scene_spec_from_episode)");
+    }
+    object_of_graph_.push_back(index);
+    const size_t o = static_cast<size_t>(index);
+    world_.objects[i].half_extents = model.objects[o].half_extents;
+    world_.objects[i].p_WO_initial = object_centre_pose(model, data, o).translation;
+  }
+  p_WT_home_ = sim::tcp_pose(model, data).translation;
+  world_.table_height = model::kTableTopZ;
+}
+
+void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
+  if (active_ < 0 || !model.has_human) return;
+  ActMotion& motion = motions_[static_cast<size_t>(active_)];
+  if (!motion.plan) return;
+  const double t = data.time() - motion.start;
+  sim::set_human_pose(model, data, motion.plan->pose_at(t, motion.signals));
+  // Hand holds follow the plan's labels (changes only).
+  const human::FrameLabel label = motion.plan->label_at(t, motion.signals);
+  for (size_t h = 0; h < 2; ++h) {
+    const std::string& holding = label.hands[h].holding;
+    if (holding == last_holding_[h]) continue;
+    last_holding_[h] = holding;
+    if (!holding.empty()) {
+      const int object = model.object_index(holding);
+      if (object >= 0 && sim::held_object(data, kSides[h]) != object) {
+        sim::grasp_by_human(model, data, kSides[h], object);
+      }
+    } else if (sim::held_object(data, kSides[h])) {
+      sim::release_by_human(model, data, kSides[h]);
+    }
+  }
+}
+
+void ScriptDriver::fill_world(const model::Model& model, const sim::Data& data) {
+  const mjModel* m = model.m();
+  const mjData* d = data.mj.get();
+  world_.time = data.time();
+  // Objects.
+  std::vector<int> graph_of_model(model.objects.size(), -1);
+  for (size_t i = 0; i < object_of_graph_.size(); ++i) {
+    const size_t o = static_cast<size_t>(object_of_graph_[i]);
+    graph_of_model[o] = static_cast<int>(i);
+    const model::ObjectInfo& info = model.objects[o];
+    script::ObjectState& state = world_.objects[i];
+    state.X_WO = object_centre_pose(model, data, o);
+    const mjtNum* v = d->qvel + info.dof_adr;
+    state.v_WO = core::Vec3(v[0], v[1], v[2]);
+    state.lid_deg = info.lid_joint >= 0
+                        ? std::abs(d->qpos[m->jnt_qposadr[info.lid_joint]]) / kDegToRad
+                        : 0.0;
+    state.left_finger_contact = state.right_finger_contact = false;
+  }
+  // Finger pads touching objects.
+  for (const sim::Contact& c : sim::find_contacts(model, data)) {
+    if (c.a.owner != model::GeomOwner::kRobotFinger || c.b.owner != model::GeomOwner::kObject) continue;
+    if (c.b.index < 0 || static_cast<size_t>(c.b.index) >= graph_of_model.size()) continue;
+    const int g = graph_of_model[static_cast<size_t>(c.b.index)];
+    if (g < 0) continue;
+    (c.a.index == 0 ? world_.objects[static_cast<size_t>(g)].left_finger_contact
+                    : world_.objects[static_cast<size_t>(g)].right_finger_contact) = true;
+  }
+  // Robot tool-centre point and gripper.
+  const size_t tcp = static_cast<size_t>(model.tcp_site);
+  mjtNum quat[4];
+  mju_mat2Quat(quat, d->site_xmat + 9 * tcp);
+  world_.X_WT.rotation = core::quat_from_wxyz(quat).normalized();
+  world_.X_WT.translation = core::Vec3(d->site_xpos[3 * tcp], d->site_xpos[3 * tcp + 1], d->site_xpos[3 * tcp + 2]);
+  mjtNum velocity[6];
+  mj_objectVelocity(m, d, mjOBJ_SITE, model.tcp_site, velocity, 0);
+  world_.v_WT = core::Vec3(velocity[3], velocity[4], velocity[5]);
+  world_.gripper_width = sim::gripper_width(model, data);
+  world_.gripper_speed = d->qvel[model.finger_dof_adr[0]] + d->qvel[model.finger_dof_adr[1]];
+  world_.home_distance = (world_.X_WT.translation - p_WT_home_).norm();
+  // Hands.
+  for (size_t h = 0; h < 2; ++h) {
+    script::HandState& hand = world_.hands[h];
+    hand.held_object = -1;
+    if (!model.has_human) continue;
+    hand.p_W = (data.X_WJ[static_cast<size_t>(kWrist[h])] * model.X_wrist_palm[h]).translation;
+    const std::optional<int> held = sim::held_object(data, kSides[h]);
+    if (held && *held >= 0 && static_cast<size_t>(*held) < graph_of_model.size()) {
+      hand.held_object = graph_of_model[static_cast<size_t>(*held)];
+    }
+  }
+}
+
+void ScriptDriver::start_plan(const model::Model& model, const sim::Data& data, size_t act) {
+  ActMotion& motion = motions_[act];
+  motion.start = runtime_.acts[act].start;
+  motion.phase = 0;
+  const std::optional<script::Motion>& spec_motion = spec_.acts[act].value.motion;
+  if (!model.has_human || !spec_motion || !spec_motion->primitive) return;
+  const auto centre = [&](const std::string& name) {
+    for (size_t i = 0; i < graph_.objects.size(); ++i) {
+      if (graph_.objects[i] == name) return world_.objects[i].X_WO.translation;
+    }
+    throw core::InputError("acts." + spec_.acts[act].name + ".motion", "a scene object", name);
+  };
+  motion.plan.emplace(human::plan_motion(model.skeleton, data.human_pose,
+                                         primitive_params(spec_, act, centre)));
+  // Waiting phases the runtime does not hold open end at their nominal time.
+  const script::CompiledAct& compiled = graph_.acts[act];
+  for (const human::Segment& segment : motion.plan->segments()) {
+    if (!segment.waits || segment.phase.empty()) continue;
+    bool held_open = false;
+    for (const script::CompiledPhase& phase : compiled.phases) {
+      if (phase.name == segment.phase && phase.waits) held_open = true;
+    }
+    if (!held_open) motion.signals[segment.phase] = 0;
+  }
+}
+
+void ScriptDriver::update_signals(size_t act) {
+  ActMotion& motion = motions_[act];
+  const script::ActState& state = runtime_.acts[act];
+  const std::vector<script::CompiledPhase>& phases = graph_.acts[act].phases;
+  size_t reached = motion.phase;
+  double at = world_.time;
+  if (state.status == script::ActStatus::kRunning) {
+    reached = state.phase;
+    at = state.phase_start;
+  } else if (state.status == script::ActStatus::kDone) {
+    reached = phases.size();
+    const int end = graph_.acts[act].end_event;
+    if (end >= 0 && std::isfinite(runtime_.event_time[static_cast<size_t>(end)])) {
+      at = runtime_.event_time[static_cast<size_t>(end)];
+    }
+  }
+  for (size_t k = motion.phase; k < reached && k < phases.size(); ++k) {
+    if (phases[k].waits && !phases[k].name.empty() && motion.signals.count(phases[k].name) == 0) {
+      motion.signals[phases[k].name] = at - motion.start;
+    }
+  }
+  motion.phase = std::max(motion.phase, reached);
+}
+
+void ScriptDriver::observe(const model::Model& model, const sim::Data& data,
+                           std::vector<uint8_t>& predicates, std::vector<Event>& events) {
+  fill_world(model, data);
+  script::step(graph_, runtime_, world_);
+  // Plans for human acts that started; the latest started act moves the body.
+  for (size_t i = 0; i < graph_.acts.size(); ++i) {
+    if (!graph_.acts[i].human) continue;
+    const script::ActStatus status = runtime_.acts[i].status;
+    if (status == script::ActStatus::kWaiting || status == script::ActStatus::kSkipped) continue;
+    if (!motions_[i].started) {
+      motions_[i].started = true;
+      start_plan(model, data, i);
+      if (active_ < 0 || motions_[i].start >= motions_[static_cast<size_t>(active_)].start) {
+        active_ = static_cast<int>(i);
+      }
+    }
+    if (motions_[i].plan) update_signals(i);
+  }
+  // New runtime events.
+  for (; events_seen_ < runtime_.events.size(); ++events_seen_) {
+    const script::Event& e = runtime_.events[events_seen_];
+    if (e.id < 0 || static_cast<size_t>(e.id) >= event_info_.size()) continue;
+    const EventInfo& info = event_info_[static_cast<size_t>(e.id)];
+    events.push_back(Event{e.time, info.kind, info.actor, info.name, info.detail});
+    if (!info.cue_kind.empty()) events.push_back(Event{e.time, EventKind::kCue, Actor::kHuman, info.name, info.cue_kind});
+  }
+  bool success = !graph_.success.empty();
+  for (const int p : graph_.success) success = success && runtime_.value[static_cast<size_t>(p)] != 0;
+  predicates.assign(1, success ? 1 : 0);
+}
+
+}  // namespace hribench::eval

@@ -1,0 +1,106 @@
+#pragma once
+// The act-graph runtime (script/runtime.h) as the runner's ScenarioDriver (eval/runner.h), and
+// the model scene of a sampled episode.
+//
+// ScriptDriver, each control step (observe): fills a script::WorldSnapshot from the simulation
+// (objects in ActGraph::objects order, TCP, gripper, finger contacts, palms and holds), steps
+// the runtime, plans the motion (human::plan_motion) of every human act that started, from the
+// human's current pose, and copies the runtime's new events into the log. Each physics step
+// (drive): poses the human from the most recently started act's plan at (t - act start) and
+// applies the plan's hand labels (holding X begins: sim::grasp_by_human; ends:
+// sim::release_by_human).
+//
+// Signals of waiting phases: a waiting phase without an `until` predicate ends at its nominal
+// time (signal 0); with one, the plan waits until the runtime leaves the phase, and the signal
+// is the runtime's phase change time (seen at the next control step, so the hand holds up to
+// one control step longer than the runtime's phase event says).
+//
+// Predicate series: one, "success" = every success predicate of the graph holds.
+// Event kinds: ACT.start / ACT.end -> kActStart / kActEnd (actor human or robot); ACT.PHASE ->
+// kPhase (and also kCue, name = that event, detail = the cue kind, when it is an act's cue);
+// PRED:true/false -> kPredicateChange (name PRED, detail "true"/"false"); ACT.skipped ->
+// kWarning (name "ACT.skipped", detail "skipped").
+//
+// Not handled yet: acts with an imported `clip` motion (the body keeps its pose), concurrent
+// human acts on different hands (only the latest started act moves the body), box lids held by
+// the hand (grasp_lid_by_human), walking plans re-planned when an act starts mid-walk.
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "eval/runner.h"
+#include "human/motion.h"
+#include "model/model.h"
+#include "script/runtime.h"
+#include "script/scenario.h"
+#include "sim/data.h"
+
+namespace hribench::eval {
+
+// The model scene of a sampled episode: objects (kind, name, colour — "gray" becomes "grey" —,
+// footprint x/y and yaw from pose, or the container's x/y for an object `in` one, held_by
+// human.left/right) and the human (height, stand x/y/yaw, handedness). Throws core::InputError
+// (where "scene.objects.NAME") for what the model cannot build: platform objects, objects with
+// an explicit `size`, objects with neither pose, container nor hand.
+model::SceneSpec scene_spec_from_episode(const script::EpisodeSpec& spec);
+
+// The motion parameters of a sampled human act (act index `act` of spec.acts) for the human
+// layer: object references in point parameters resolve to `object_centre(name)` (world, m).
+// Seed: derived from spec.seed and the act index.
+// Throws core::InputError when the act has no primitive motion.
+human::PrimitiveParams primitive_params(
+    const script::EpisodeSpec& spec, size_t act,
+    const std::function<core::Vec3(const std::string&)>& object_centre);
+
+class ScriptDriver : public ScenarioDriver {
+ public:
+  // Compiles the spec's act graph (throws core::InputError like script::compile). The model
+  // passed to reset/drive/observe must be built from scene_spec_from_episode(spec).
+  explicit ScriptDriver(script::EpisodeSpec spec);
+
+  std::vector<std::string> predicate_names() const override { return {"success"}; }
+  void reset(const model::Model& model, sim::Data& data) override;
+  void drive(const model::Model& model, sim::Data& data) override;
+  void observe(const model::Model& model, const sim::Data& data,
+               std::vector<uint8_t>& predicates, std::vector<Event>& events) override;
+
+  const script::ActGraph& graph() const { return graph_; }
+  const script::RuntimeState& runtime() const { return runtime_; }
+
+ private:
+  struct ActMotion {
+    std::optional<human::MotionPlan> plan;
+    human::Signals signals;
+    size_t phase = 0;  // runtime phase index last seen
+    double start = 0;  // s, act start
+    bool started = false;
+  };
+  struct EventInfo {
+    EventKind kind = EventKind::kWarning;
+    Actor actor = Actor::kNone;
+    std::string name, detail;
+    std::string cue_kind;  // non-empty: also a kCue event
+  };
+
+  void fill_world(const model::Model& model, const sim::Data& data);
+  void start_plan(const model::Model& model, const sim::Data& data, size_t act);
+  void update_signals(size_t act);
+
+  script::EpisodeSpec spec_;
+  script::ActGraph graph_;
+  script::RuntimeState runtime_;
+  script::WorldSnapshot world_;
+  std::vector<EventInfo> event_info_;       // per event id
+  std::vector<int> object_of_graph_;        // graph object -> model object index
+  std::vector<ActMotion> motions_;          // per act
+  int active_ = -1;                         // act whose plan poses the body, -1 none
+  std::array<std::string, 2> last_holding_; // label of each hand at the last physics step
+  size_t events_seen_ = 0;
+  core::Vec3 p_WT_home_ = core::Vec3::Zero();
+};
+
+}  // namespace hribench::eval
