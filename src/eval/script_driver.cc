@@ -180,6 +180,7 @@ void ScriptDriver::reset(const model::Model& model, sim::Data& data) {
   motions_.assign(graph_.acts.size(), ActMotion{});
   active_ = -1;
   last_holding_ = {};
+  holding_plan_ = -1;
   events_seen_ = 0;
   // Graph objects in the model.
   object_of_graph_.clear();
@@ -205,8 +206,13 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
   if (!motion.plan) return;
   const double t = data.time() - motion.start;
   sim::set_human_pose(model, data, motion.plan->pose_at(t, motion.signals));
-  // Hand holds follow the plan's labels (changes only).
+  // Hand holds follow the plan's labels (changes within this plan only).
   const human::FrameLabel label = motion.plan->label_at(t, motion.signals);
+  if (holding_plan_ != active_) {
+    holding_plan_ = active_;
+    for (size_t h = 0; h < 2; ++h) last_holding_[h] = label.hands[h].holding;
+    return;
+  }
   for (size_t h = 0; h < 2; ++h) {
     const std::string& holding = label.hands[h].holding;
     if (holding == last_holding_[h]) continue;

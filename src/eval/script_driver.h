@@ -8,7 +8,9 @@
 // human's current pose, and copies the runtime's new events into the log. Each physics step
 // (drive): poses the human from the most recently started act's plan at (t - act start) and
 // applies the plan's hand labels (holding X begins: sim::grasp_by_human; ends:
-// sim::release_by_human).
+// sim::release_by_human). Only label changes within one plan act: a new plan starts from a
+// pose whose hands hold nothing in its labels, so switching plans keeps the holds as they are
+// (a person who gives up an offer keeps the object).
 //
 // Signals of waiting phases: a waiting phase without an `until` predicate ends at its nominal
 // time (signal 0); with one, the plan waits until the runtime leaves the phase, and the signal
@@ -99,6 +101,7 @@ class ScriptDriver : public ScenarioDriver {
   std::vector<ActMotion> motions_;          // per act
   int active_ = -1;                         // act whose plan poses the body, -1 none
   std::array<std::string, 2> last_holding_; // label of each hand at the last physics step
+  int holding_plan_ = -1;                   // act whose labels last_holding_ came from
   size_t events_seen_ = 0;
   core::Vec3 p_WT_home_ = core::Vec3::Zero();
 };
