@@ -22,12 +22,12 @@ class ScriptDriverTest : public hribench::testing::MujocoTest {
   static script::EpisodeSpec stop_go_spec() {
     return script::sample(script::load_scenario("tests/data/scripts/good/stop_go.yaml"), 1);
   }
-  EpisodeLog run(const script::EpisodeSpec& spec, const model::Model& model) {
+  EpisodeLog run(const script::EpisodeSpec& spec, const model::Model& model, double horizon = 4.0) {
     sim::Data data = sim::make_data(model);
     ScriptDriver driver(spec);
     policy::NoopPolicy noop;
     RunOptions options;
-    options.horizon = 4.0;
+    options.horizon = horizon;
     EpisodeSetup setup;
     setup.task = spec.task;
     setup.role = spec.role;
@@ -108,6 +108,41 @@ TEST_F(ScriptDriverTest, NoopEpisodeMovesTheHumanOnScheduleDeterministically) {
     for (size_t o = 0; o < log.steps[i].object_poses.size(); ++o) {
       EXPECT_EQ(again.steps[i].object_poses[o].translation, log.steps[i].object_poses[o].translation);
     }
+  }
+}
+
+// The demonstrator's motion labels grasp and release a real object: the human's demo act
+// puts inst_a into cont_1 by hand (hold springs, not teleporting).
+TEST_F(ScriptDriverTest, HumanDemoPlacesTheObjectThroughHandHolds) {
+  const script::EpisodeSpec spec =
+      script::sample(script::load_scenario("tasks/I3_demo_imitate.yaml"), 1);
+  const model::Model model = model::build(scene_spec_from_episode(spec));
+  const EpisodeLog log = run(spec, model, 7.0);
+  ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
+  const std::optional<double> release = log.event_time("demo.release");
+  ASSERT_TRUE(release.has_value());
+  bool placed = false;
+  for (const Event& e : log.events) {
+    if (e.kind == EventKind::kPredicateChange && e.name == "in(inst_a, cont_1)" && e.detail == "true") {
+      placed = true;
+      EXPECT_GE(e.time, *release);
+    }
+  }
+  EXPECT_TRUE(placed);
+}
+
+// A superseding act (give_up after an unanswered offer) keeps the offered item in the hand.
+TEST_F(ScriptDriverTest, GivingUpKeepsTheOfferedItem) {
+  const script::EpisodeSpec spec =
+      script::sample(script::load_scenario("tests/data/scripts/good/handover_h2r.yaml"), 1);
+  const model::Model model = model::build(scene_spec_from_episode(spec));
+  const EpisodeLog log = run(spec, model, 10.0);
+  ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
+  ASSERT_TRUE(log.event_time("give_up.end").has_value());
+  for (const Event& e : log.events) {
+    EXPECT_FALSE(e.kind == EventKind::kPredicateChange && e.name == "not dropped(item)" &&
+                 e.detail == "false")
+        << "dropped at " << e.time;
   }
 }
 
