@@ -37,6 +37,12 @@ class ScriptDriverTest : public hribench::testing::MujocoTest {
     ExpectNoWarnings(data.mj.get());
     return log;
   }
+  // Samples a script at seed 1, builds its model and runs a noop episode.
+  EpisodeLog run_script(const std::string& path, double horizon) {
+    const script::EpisodeSpec spec = script::sample(script::load_scenario(path), 1);
+    const model::Model model = model::build(scene_spec_from_episode(spec));
+    return run(spec, model, horizon);
+  }
 };
 
 TEST_F(ScriptDriverTest, SceneSpecCarriesObjectsAndHuman) {
@@ -114,10 +120,7 @@ TEST_F(ScriptDriverTest, NoopEpisodeMovesTheHumanOnScheduleDeterministically) {
 // The demonstrator's motion labels grasp and release a real object: the human's demo act
 // puts inst_a into cont_1 by hand (hold springs, not teleporting).
 TEST_F(ScriptDriverTest, HumanDemoPlacesTheObjectThroughHandHolds) {
-  const script::EpisodeSpec spec =
-      script::sample(script::load_scenario("tasks/I3_demo_imitate.yaml"), 1);
-  const model::Model model = model::build(scene_spec_from_episode(spec));
-  const EpisodeLog log = run(spec, model, 7.0);
+  const EpisodeLog log = run_script("tasks/I3_demo_imitate.yaml", 7.0);
   ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
   const std::optional<double> release = log.event_time("demo.release");
   ASSERT_TRUE(release.has_value());
@@ -133,10 +136,7 @@ TEST_F(ScriptDriverTest, HumanDemoPlacesTheObjectThroughHandHolds) {
 
 // A superseding act (give_up after an unanswered offer) keeps the offered item in the hand.
 TEST_F(ScriptDriverTest, GivingUpKeepsTheOfferedItem) {
-  const script::EpisodeSpec spec =
-      script::sample(script::load_scenario("tests/data/scripts/good/handover_h2r.yaml"), 1);
-  const model::Model model = model::build(scene_spec_from_episode(spec));
-  const EpisodeLog log = run(spec, model, 10.0);
+  const EpisodeLog log = run_script("tests/data/scripts/good/handover_h2r.yaml", 10.0);
   ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
   ASSERT_TRUE(log.event_time("give_up.end").has_value());
   for (const Event& e : log.events) {
