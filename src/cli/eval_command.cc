@@ -1,0 +1,292 @@
+// `hribench eval --tasks LIST|all --policy LIST --out DIR [...]`: runs every (task, policy,
+// seed) episode, scores it, appends it to DIR/episodes.jsonl as it finishes (so --resume loses
+// nothing), and writes DIR/results.json, summary.md and summary.csv at the end.
+// DIR/options.json records the options that change results; another run's folder is refused
+// unless --resume (same options) or --force.
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/command.h"
+#include "core/errors.h"
+#include "eval/metrics.h"
+#include "eval/parallel.h"
+#include "eval/report.h"
+#include "eval/runner.h"
+#include "eval/script_contract.h"
+#include "eval/script_driver.h"
+#include "model/model.h"
+#include "policy/registry.h"
+#include "script/check.h"
+#include "script/sample.h"
+#include "sim/data.h"
+
+namespace hribench::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct EvalOptions {
+  std::string tasks;
+  std::string policies;
+  int episodes = 10;
+  uint64_t seed = 0;
+  int threads = 1;
+  std::string latency = "none";
+  double horizon = -1;  // s; -1: each script's own horizon
+  std::string out;
+  bool resume = false;
+  bool force = false;
+};
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    if (!item.empty()) items.push_back(item);
+  }
+  return items;
+}
+
+// A task name (I4, I4_stop_go), a file, or `all` -> script paths, sorted for `all`.
+std::vector<std::string> resolve_tasks(const std::string& list) {
+  const fs::path dir = "tasks";
+  std::vector<std::string> all;
+  if (fs::is_directory(dir)) {
+    for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
+      if (entry.path().extension() == ".yaml") all.push_back(entry.path().string());
+    }
+  }
+  std::sort(all.begin(), all.end());
+  std::vector<std::string> paths;
+  for (const std::string& name : split_list(list)) {
+    if (name == "all") {
+      if (all.empty()) throw core::InputError::Message("--tasks", "no tasks/*.yaml found");
+      paths.insert(paths.end(), all.begin(), all.end());
+      continue;
+    }
+    if (fs::is_regular_file(name)) {
+      paths.push_back(name);
+      continue;
+    }
+    std::optional<std::string> found;
+    for (const std::string& path : all) {
+      const std::string stem = fs::path(path).stem().string();
+      if (stem == name || stem.rfind(name + "_", 0) == 0) {
+        found = path;
+        break;
+      }
+    }
+    if (!found) {
+      throw core::InputError("--tasks", "a task name or file of tasks/ (or all)", "'" + name + "'");
+    }
+    paths.push_back(*found);
+  }
+  if (paths.empty()) throw core::InputError("--tasks", "a task list", "'" + list + "'");
+  return paths;
+}
+
+struct Job {
+  const script::EpisodeSpec* spec = nullptr;
+  std::string hash;
+  std::string policy;
+  std::string key;
+};
+
+// One episode; trouble (a scene the model cannot build, any exception) -> invalid with reason.
+eval::EpisodeResult run_one(const Job& job, const eval::RunOptions& base) {
+  const script::EpisodeSpec& spec = *job.spec;
+  try {
+    const model::Model model = model::build(eval::scene_spec_from_episode(spec));
+    sim::Data data = sim::make_data(model);
+    eval::ScriptDriver driver(spec);
+    std::unique_ptr<policy::Policy> policy = policy::make_policy(job.policy);
+    const eval::EpisodeSetup setup{spec.task, spec.role,        job.hash,
+                                   spec.seed, spec.instruction, job.policy};
+    eval::RunOptions options = base;
+    if (options.horizon <= 0) options.horizon = spec.horizon;
+    const eval::EpisodeLog log = eval::run_episode(model, data, *policy, driver, setup, options);
+    const eval::ScenarioContract contract = eval::contract_from_act_graph(driver.graph());
+    return eval::make_result(log, eval::compute_metrics(contract, log, options.constants));
+  } catch (const std::exception& e) {
+    eval::EpisodeResult result;
+    result.task = spec.task;
+    result.role = spec.role;
+    result.policy = job.policy;
+    result.spec_hash = job.hash;
+    result.seed = spec.seed;
+    result.status = core::EpisodeStatus::kInvalid;
+    result.status_reason = e.what();
+    result.metrics.labels = {eval::FailureLabel::kInvalid};
+    result.metrics.primary_label = eval::FailureLabel::kInvalid;
+    return result;
+  }
+}
+
+nlohmann::json read_json(const fs::path& path) {
+  std::ifstream in(path);
+  nlohmann::json json;
+  try {
+    in >> json;
+  } catch (const std::exception&) {
+    throw core::InputError::Message(path.string(), "not valid JSON");
+  }
+  return json;
+}
+
+// Refuses a folder holding another run unless --resume (same options) or --force; returns
+// the episodes already finished (rewriting the episode file without a torn last line).
+std::vector<eval::EpisodeResult> prepare_out(const EvalOptions& o, const nlohmann::json& options) {
+  const fs::path dir = o.out;
+  const fs::path options_file = dir / "options.json";
+  const fs::path lines_file = dir / "episodes.jsonl";
+  std::vector<eval::EpisodeResult> finished;
+  const bool has_run = fs::exists(options_file) || fs::exists(lines_file) ||
+                       fs::exists(dir / "results.json");
+  if (has_run && o.force) {
+    for (const char* name : {"options.json", "episodes.jsonl", "results.json", "summary.md",
+                             "summary.csv"}) {
+      fs::remove(dir / name);
+    }
+  } else if (has_run && !o.resume) {
+    throw core::InputError::Message(
+        "--out", o.out + " already holds a run; use --resume to continue it or --force to replace it");
+  } else if (has_run) {
+    if (!fs::exists(options_file) || read_json(options_file) != options) {
+      throw core::InputError::Message(
+          "--resume", o.out + " holds a run with other options; use --force to replace it");
+    }
+    if (fs::exists(lines_file)) finished = eval::load_episode_lines(lines_file);
+    fs::remove(lines_file);
+    for (const eval::EpisodeResult& r : finished) eval::append_episode_line(lines_file, r);
+  }
+  fs::create_directories(dir);
+  std::ofstream(options_file) << options.dump(2) << "\n";
+  return finished;
+}
+
+int run_eval(const EvalOptions& o) {
+  // Contradictory or bad options first: one line, exit 2.
+  if (o.resume && o.force) {
+    throw core::InputError::Message("--resume", "cannot be combined with --force");
+  }
+  if (o.episodes <= 0) {
+    throw core::InputError("--episodes", "a positive number", std::to_string(o.episodes));
+  }
+  if (o.threads <= 0) {
+    throw core::InputError("--threads", "a positive number", std::to_string(o.threads));
+  }
+  if (o.horizon != -1 && !(o.horizon > 0)) {
+    throw core::InputError("--horizon", "a positive number of seconds", std::to_string(o.horizon));
+  }
+  const eval::Latency latency = eval::parse_latency(o.latency);
+  const std::vector<std::string> task_files = resolve_tasks(o.tasks);
+  const std::vector<std::string> policies = split_list(o.policies);
+  if (policies.empty()) throw core::InputError("--policy", "a policy list", "'" + o.policies + "'");
+  for (const std::string& p : policies) policy::make_policy(p);  // unknown -> InputError
+
+  // Sample every (task, seed) episode up front.
+  std::vector<script::EpisodeSpec> specs;
+  specs.reserve(task_files.size() * static_cast<size_t>(o.episodes));
+  for (const std::string& file : task_files) {
+    const script::Scenario scenario = script::load_scenario(file);
+    for (int i = 0; i < o.episodes; ++i) {
+      specs.push_back(script::sample(scenario, o.seed + static_cast<uint64_t>(i)));
+    }
+  }
+
+  const nlohmann::json options = {
+      {"tasks", task_files},   {"policies", policies},
+      {"episodes", o.episodes}, {"seed", o.seed},
+      {"latency", eval::to_string(latency)},
+      {"horizon", o.horizon > 0 ? nlohmann::json(o.horizon) : nlohmann::json("script")}};
+  const std::vector<eval::EpisodeResult> finished = prepare_out(o, options);
+  std::map<std::string, eval::EpisodeResult> by_key;
+  for (const eval::EpisodeResult& r : finished) by_key.emplace(eval::episode_key(r), r);
+
+  // Jobs in (task, policy, seed) order; those already finished are skipped.
+  std::vector<Job> all_jobs;
+  std::vector<size_t> todo;
+  const size_t per_task = static_cast<size_t>(o.episodes);
+  for (size_t t = 0; t < task_files.size(); ++t) {
+    for (const std::string& p : policies) {
+      for (size_t i = 0; i < per_task; ++i) {
+        Job job;
+        job.spec = &specs[t * per_task + i];
+        job.hash = script::spec_hash(*job.spec);
+        job.policy = p;
+        job.key = eval::episode_key(job.spec->task, p, job.hash, job.spec->seed);
+        if (by_key.count(job.key) == 0) todo.push_back(all_jobs.size());
+        all_jobs.push_back(std::move(job));
+      }
+    }
+  }
+
+  eval::RunOptions run_options;
+  run_options.latency = latency;
+  run_options.horizon = o.horizon > 0 ? o.horizon : 0;  // 0: each script's own horizon
+
+  // Run, appending each episode as it finishes, with a one-line progress indicator.
+  const fs::path lines_file = fs::path(o.out) / "episodes.jsonl";
+  const auto start = std::chrono::steady_clock::now();
+  size_t done = 0;
+  const std::vector<eval::EpisodeResult> results = eval::run_jobs(
+      todo.size(), o.threads,
+      [&](size_t job, int) { return run_one(all_jobs[todo[job]], run_options); },
+      [&](size_t, const eval::EpisodeResult& result) {
+        eval::append_episode_line(lines_file, result);
+        ++done;
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0;
+        const double eta = rate > 0 ? static_cast<double>(todo.size() - done) / rate : 0;
+        std::fprintf(stderr, "\rhribench eval: %zu/%zu episodes (%zu resumed), %.2f ep/s, ETA %.0f s ",
+                     done + finished.size(), all_jobs.size(), finished.size(), rate, eta);
+        std::fflush(stderr);
+      });
+  if (!todo.empty()) std::fprintf(stderr, "\n");
+  for (size_t i = 0; i < todo.size(); ++i) by_key.insert_or_assign(all_jobs[todo[i]].key, results[i]);
+
+  // Results in job order whatever the completion order or resume history.
+  eval::RunResults run;
+  run.info = eval::current_run_info("none", options, run_options.constants);
+  for (const Job& job : all_jobs) run.episodes.push_back(by_key.at(job.key));
+  eval::write_run(o.out, run);
+  std::fputs(eval::summary_markdown(run).c_str(), stdout);
+  return 0;
+}
+
+HRIB_REGISTER_COMMAND(
+    "eval", "Run policies on tasks and score the episodes",
+    [](CLI::App& app) -> std::function<int()> {
+      auto o = std::make_shared<EvalOptions>();
+      app.add_option("--tasks", o->tasks, "Task names, files, or all (comma-separated)")->required();
+      app.add_option("--policy", o->policies, "Policy references (comma-separated)")->required();
+      app.add_option("--episodes", o->episodes, "Episodes per task and policy (seeds S..S+N-1)");
+      app.add_option("--seed", o->seed, "First seed");
+      app.add_option("--threads", o->threads, "Worker threads");
+      app.add_option("--latency", o->latency, "none | fixed:MS | measured");
+      app.add_option("--horizon", o->horizon, "Episode length in seconds (default: the script's)");
+      app.add_option("--out", o->out, "Output folder")->required();
+      app.add_flag("--resume", o->resume, "Continue the run in --out (same options)");
+      app.add_flag("--force", o->force, "Replace the run in --out");
+      return [o] { return run_eval(*o); };
+    });
+
+}  // namespace
+}  // namespace hribench::cli

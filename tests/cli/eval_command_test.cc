@@ -1,0 +1,150 @@
+// Tests of `hribench eval` and `hribench report`: a tiny run (one task, noop, two short
+// episodes) writes results.json / summary.md / summary.csv; the folder is refused for a rerun
+// without --resume or --force; --resume of a finished run redoes nothing; bad options are one
+// line with exit 2; `report` prints a table naming the policy.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "support/run_command.h"
+
+namespace hribench::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using ::hribench::testing::count_lines;
+using ::hribench::testing::run_hribench;
+
+// A fresh folder per test and process.
+std::string temp_dir(const std::string& name) {
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("hribench_eval_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  return dir.string();
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+const std::string kTinyRun = "eval --tasks I4 --policy noop --episodes 2 --seed 3 --horizon 2 --out ";
+
+// One tiny run shared by the tests that only read or resume it.
+class EvalRunTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = temp_dir("shared");
+    first_ = run_hribench(kTinyRun + dir_);
+  }
+  static inline std::string dir_;
+  static inline ::hribench::testing::CommandResult first_;
+};
+
+TEST_F(EvalRunTest, WritesResultsAndSummariesWithEveryEpisode) {
+  ASSERT_EQ(first_.exit_code, 0) << first_.output;
+  const nlohmann::json results = nlohmann::json::parse(read_text(fs::path(dir_) / "results.json"));
+  ASSERT_EQ(results.at("episodes").size(), 2u);
+  EXPECT_EQ(results.at("episodes")[0].at("seed"), 3);
+  EXPECT_EQ(results.at("episodes")[1].at("seed"), 4);
+  EXPECT_EQ(results.at("episodes")[0].at("policy"), "noop");
+  EXPECT_TRUE(fs::exists(fs::path(dir_) / "summary.csv"));
+  const std::string summary = read_text(fs::path(dir_) / "summary.md");
+  EXPECT_NE(summary.find("noop"), std::string::npos);
+  // summary.md is printed; the progress line counts to 2 of 2.
+  EXPECT_NE(first_.output.find(summary), std::string::npos);
+  EXPECT_NE(first_.output.find("2/2 episodes"), std::string::npos) << first_.output;
+  EXPECT_EQ(count_lines(read_text(fs::path(dir_) / "episodes.jsonl")), 2);
+}
+
+TEST_F(EvalRunTest, RerunIntoTheSameFolderIsRefusedInOneLine) {
+  ASSERT_EQ(first_.exit_code, 0) << first_.output;
+  const auto r = run_hribench(kTinyRun + dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("--resume"), std::string::npos) << r.output;
+}
+
+TEST_F(EvalRunTest, ResumeWithOtherOptionsIsRefused) {
+  ASSERT_EQ(first_.exit_code, 0) << first_.output;
+  const auto r = run_hribench(
+      "eval --tasks I4 --policy noop --episodes 3 --seed 3 --horizon 2 --resume --out " + dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("other options"), std::string::npos) << r.output;
+}
+
+TEST_F(EvalRunTest, ResumeOfAFinishedRunRedoesNothing) {
+  ASSERT_EQ(first_.exit_code, 0) << first_.output;
+  const std::string before = read_text(fs::path(dir_) / "results.json");
+  const auto r = run_hribench(kTinyRun + dir_ + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("episodes ("), std::string::npos) << "no progress line expected";
+  EXPECT_EQ(count_lines(read_text(fs::path(dir_) / "episodes.jsonl")), 2);
+  EXPECT_EQ(read_text(fs::path(dir_) / "results.json"), before);
+}
+
+// A run killed after one episode and mid-way through writing the next: --resume redoes only
+// the lost episode and ends with the same results.
+TEST_F(EvalRunTest, ResumeAfterAKilledRunRedoesOnlyTheLostEpisode) {
+  ASSERT_EQ(first_.exit_code, 0) << first_.output;
+  const fs::path lines = fs::path(dir_) / "episodes.jsonl";
+  const std::string before = read_text(fs::path(dir_) / "results.json");
+  const std::string all_lines = read_text(lines);
+  std::ofstream(lines) << all_lines.substr(0, all_lines.find('\n') + 1) << "{\"task\": \"st";
+  const auto r = run_hribench(kTinyRun + dir_ + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("2/2 episodes (1 resumed)"), std::string::npos) << r.output;
+  EXPECT_EQ(read_text(lines), all_lines);
+  EXPECT_EQ(read_text(fs::path(dir_) / "results.json"), before);
+}
+
+TEST_F(EvalRunTest, ReportPrintsATableNamingThePolicy) {
+  ASSERT_EQ(first_.exit_code, 0) << first_.output;
+  const auto r = run_hribench("report " + dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("|"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("noop"), std::string::npos) << r.output;
+}
+
+TEST(EvalCommandTest, UnknownTaskIsOneLine) {
+  const auto r = run_hribench("eval --tasks Z9_nothing --policy noop --out " + temp_dir("task"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("Z9_nothing"), std::string::npos) << r.output;
+}
+
+TEST(EvalCommandTest, UnknownPolicyIsOneLine) {
+  const auto r = run_hribench("eval --tasks I4 --policy nosuchpolicy --out " + temp_dir("policy"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("nosuchpolicy"), std::string::npos) << r.output;
+}
+
+TEST(EvalCommandTest, ContradictoryOptionsAreOneLine) {
+  const std::string dir = temp_dir("options");
+  for (const std::string flags : {"--resume --force", "--episodes 0", "--horizon -1.5"}) {
+    const auto r = run_hribench("eval --tasks I4 --policy noop " + flags + " --out " + dir);
+    EXPECT_EQ(r.exit_code, 2) << flags << ": " << r.output;
+    EXPECT_EQ(count_lines(r.output), 1) << flags << ": " << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(ReportCommandTest, MissingRunIsOneLine) {
+  const auto r = run_hribench("report " + temp_dir("missing"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+}
+
+}  // namespace
+}  // namespace hribench::cli
