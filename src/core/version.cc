@@ -1,5 +1,7 @@
 #include "core/version.h"
 
+#include "hribench_git_hash.h"  // generated at build time (cmake/git_hash.cmake)
+
 namespace hribench::core {
 
 std::string_view version() { return HRIBENCH_VERSION; }
