@@ -14,6 +14,7 @@
 
 #include "core/errors.h"
 #include "eval/metrics.h"
+#include "render/renderer.h"
 #include "sim/contact.h"
 #include "sim/control.h"
 #include "sim/separation.h"
@@ -193,8 +194,30 @@ StepRecord record_step(Episode& e) {
   return s;
 }
 
+// One renderer per requested camera, for this episode's model.
+struct Cameras {
+  std::vector<std::unique_ptr<render::Renderer>> renderers;
+  std::vector<int> ids;
+};
+
+Cameras make_cameras(const model::Model& model, const policy::PolicySpec& spec,
+                     const std::string& policy_name, render::Backend backend) {
+  Cameras cameras;
+  if (spec.cameras.empty()) return cameras;
+  if (backend == render::Backend::kNone) {
+    throw core::InputError("policy " + policy_name, "a renderer for its cameras (osmesa or egl)",
+                           "render back end none");
+  }
+  for (const policy::CameraRequest& request : spec.cameras) {
+    cameras.ids.push_back(render::camera_id(*model.m(), request.name, "policy " + policy_name + " camera"));
+    cameras.renderers.push_back(render::make_renderer(backend, *model.m(), request.width, request.height));
+  }
+  return cameras;
+}
+
 policy::Observation observe(const Episode& e, const policy::PolicySpec& spec,
-                            const std::string& instruction, const StepRecord& s) {
+                            const std::string& instruction, const StepRecord& s,
+                            Cameras& cameras, const std::vector<Event>& events) {
   policy::Observation obs;
   obs.time = s.time;
   obs.instruction = instruction;
@@ -212,6 +235,21 @@ policy::Observation observe(const Episode& e, const policy::PolicySpec& spec,
     std::sort(state.objects.begin(), state.objects.end(),
               [](const policy::ObjectPose& a, const policy::ObjectPose& b) { return a.name < b.name; });
     obs.state = std::move(state);
+  }
+  for (size_t i = 0; i < cameras.renderers.size(); ++i) {
+    policy::Image image;
+    image.camera = spec.cameras[i].name;
+    render::Image rgb;
+    cameras.renderers[i]->render(e.model, e.data, cameras.ids[i], rgb);
+    image.width = rgb.width;
+    image.height = rgb.height;
+    image.pixels = std::move(rgb.rgb);
+    obs.images.push_back(std::move(image));
+  }
+  if (spec.privileged) {
+    for (const Event& event : events) {
+      obs.events.push_back({event.time, std::string(to_string(event.kind)), event.name, event.detail});
+    }
   }
   return obs;
 }
@@ -246,10 +284,7 @@ EpisodeLog run_episode(const model::Model& model, sim::Data& data, policy::Polic
     throw core::InputError("horizon", "a positive number of seconds", fmt::format("{}", options.horizon));
   }
   const policy::PolicySpec spec = policy.spec();
-  if (!spec.cameras.empty()) {
-    throw core::InputError("policy " + setup.policy, "a policy without camera observations (the "
-                           "runner does not render yet)", fmt::format("{} cameras", spec.cameras.size()));
-  }
+  Cameras cameras = make_cameras(model, spec, setup.policy, options.render_backend);
   const double eps = options.constants.time_epsilon;
 
   EpisodeLog log;
@@ -294,7 +329,7 @@ EpisodeLog run_episode(const model::Model& model, sim::Data& data, policy::Polic
   };
 
   policy::EpisodeInfo info{setup.task, setup.instruction, setup.seed, options.horizon,
-                           options.control_dt};
+                           options.control_dt, spec.privileged ? driver.episode() : nullptr};
   try {
     policy.reset(info);
   } catch (const std::exception& ex) {
@@ -311,7 +346,7 @@ EpisodeLog run_episode(const model::Model& model, sim::Data& data, policy::Polic
   for (int k = 0; k < steps; ++k) {
     // Ask the policy when nothing is queued or on the way.
     if (queue.empty() && thinking == 0) {
-      const policy::Observation obs = observe(e, spec, setup.instruction, log.steps.back());
+      const policy::Observation obs = observe(e, spec, setup.instruction, log.steps.back(), cameras, log.events);
       policy::ActionChunk chunk;
       const auto start = std::chrono::steady_clock::now();
       try {

@@ -25,6 +25,8 @@
 #include "eval/episode_log.h"
 #include "model/model.h"
 #include "policy/policy.h"
+#include "render/gl_context.h"
+#include "script/scenario.h"
 #include "sim/data.h"
 
 namespace hribench::eval {
@@ -55,6 +57,8 @@ class ScenarioDriver {
   // (appended to `events`, times <= data.time()).
   virtual void observe(const model::Model& model, const sim::Data& data,
                        std::vector<uint8_t>& predicates, std::vector<Event>& events) = 0;
+  // The sampled episode behind this driver, for privileged policies (null: none).
+  virtual std::shared_ptr<const script::EpisodeSpec> episode() const { return nullptr; }
 };
 
 // No script: the human (if any) stands at its start pose; one series, "success", never true.
@@ -86,12 +90,18 @@ struct RunOptions {
   bool stop_on_success = true;  // end once "success" has held for constants.success_hold
   MetricConstants constants;
   policy::ActionLimits limits;
+  // GL back end for the cameras a policy asks for (one renderer per requested camera, made for
+  // this episode's model). kNone refuses camera-asking policies.
+  render::Backend render_backend = render::Backend::kOsmesa;
 };
 
 // Runs one episode from sim::reset. Never throws for trouble inside the episode (tier 3: the
 // log's status says what happened); throws core::InputError for options it cannot honour
-// (a policy asking for camera images — not wired yet —, a control_dt that is not a whole
-// number of physics steps, a non-positive horizon).
+// (a camera the model does not have, cameras with render_backend kNone, no usable GL context,
+// a control_dt that is not a whole number of physics steps, a non-positive horizon).
+// Observations: proprioception always; camera images rendered after every control step the
+// policy is asked at (only then); the state track and the privileged track (events so far,
+// the sampled episode in EpisodeInfo) when the policy's spec asks for them.
 EpisodeLog run_episode(const model::Model& model, sim::Data& data, policy::Policy& policy,
                        ScenarioDriver& driver, const EpisodeSetup& setup,
                        const RunOptions& options);

@@ -144,7 +144,10 @@ human::PrimitiveParams primitive_params(
 }
 
 ScriptDriver::ScriptDriver(script::EpisodeSpec spec)
-    : spec_(std::move(spec)), graph_(script::compile(spec_)), runtime_(script::make_runtime(graph_)) {
+    : spec_(std::move(spec)),
+      episode_(std::make_shared<const script::EpisodeSpec>(spec_)),
+      graph_(script::compile(spec_)),
+      runtime_(script::make_runtime(graph_)) {
   // What each event id means in the log.
   event_info_.resize(graph_.event_names.size());
   for (size_t i = 0; i < event_info_.size(); ++i) event_info_[i].name = graph_.event_names[i];

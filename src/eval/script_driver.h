@@ -30,6 +30,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -70,6 +71,8 @@ class ScriptDriver : public ScenarioDriver {
   void observe(const model::Model& model, const sim::Data& data,
                std::vector<uint8_t>& predicates, std::vector<Event>& events) override;
 
+  std::shared_ptr<const script::EpisodeSpec> episode() const override { return episode_; }
+
   const script::ActGraph& graph() const { return graph_; }
   const script::RuntimeState& runtime() const { return runtime_; }
 
@@ -93,6 +96,7 @@ class ScriptDriver : public ScenarioDriver {
   void update_signals(size_t act);
 
   script::EpisodeSpec spec_;
+  std::shared_ptr<const script::EpisodeSpec> episode_;  // a shared copy of spec_
   script::ActGraph graph_;
   script::RuntimeState runtime_;
   script::WorldSnapshot world_;

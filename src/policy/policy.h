@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "script/scenario.h"
 
 namespace hribench::policy {
 
@@ -51,6 +53,10 @@ struct PolicySpec {
   bool state_track = false;            // true: human keypoints and object poses are observed
   ActionSpace action_space = ActionSpace::kEeDelta;
   int replan_every = 1;  // actions executed per chunk before asking again (>= 1)
+  // true: the episode's sampled script (EpisodeInfo::episode) and its events as they happen
+  // (Observation::events) are observed. For privileged experts (the oracle and its scripted
+  // baselines), never for a policy under evaluation as a learner.
+  bool privileged = false;
 };
 
 // Facts about the episode a policy may know before the first observation.
@@ -60,6 +66,9 @@ struct EpisodeInfo {
   uint64_t seed = 0;        // the episode's seed (a policy may seed its own randomness)
   double horizon = 30.0;    // s
   double control_dt = 0.05; // s between control steps
+  // Privileged policies only (PolicySpec::privileged), else null: the sampled episode (scene,
+  // human, acts with their goals, success) whose events Observation::events reports.
+  std::shared_ptr<const script::EpisodeSpec> episode;
 };
 
 // An RGB image, uint8, row-major HWC (height x width x 3).
@@ -94,12 +103,21 @@ struct StateObservation {
   std::vector<ObjectPose> objects;                           // sorted by name
 };
 
+// An event of the running scenario, as the episode log records it (privileged track only).
+struct ScriptEvent {
+  double time = 0;   // s
+  std::string kind;  // "act_start" | "act_end" | "phase" | "cue" | "predicate_change" | "warning"
+  std::string name;  // e.g. "offer.start", "offer.hold_stable", "take.end", "in(item, bin)"
+  std::string detail;  // cue: the cue kind ("go" | "stop" | "intrusion"); predicate: "true"/"false"
+};
+
 struct Observation {
   double time = 0;  // simulated time, s
   std::string instruction;
   Proprioception proprio;
   std::vector<Image> images;              // one per requested camera, in request order
   std::optional<StateObservation> state;  // set iff the policy asked for the state track
+  std::vector<ScriptEvent> events;  // privileged only: every event so far, in time order
 };
 
 // One action: action_dim(space) values (see ActionSpace).

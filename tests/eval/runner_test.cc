@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <limits>
@@ -12,6 +13,7 @@
 #include "human/skeleton.h"
 #include "model/model.h"
 #include "policy/builtin.h"
+#include "render/gl_context.h"
 #include "sim/control.h"
 #include "sim/data.h"
 #include "support/mujoco_fixture.h"
@@ -273,18 +275,90 @@ TEST_F(RunnerTest, RobotShovedByThePenetratingHumanMovesAwayFromIt) {
   EXPECT_GT(shoved, 10);
 }
 
-TEST_F(RunnerTest, CamerasAreRefusedUntilRenderingIsWired) {
-  class CameraPolicy : public policy::NoopPolicy {
-   public:
-    policy::PolicySpec spec() const override {
-      policy::PolicySpec s = NoopPolicy::spec();
-      s.cameras.push_back({"agentview", 224, 224});
-      return s;
-    }
-  } camera;
+// Asks for the given cameras (or the privileged track) and keeps what it observes.
+class WatchingPolicy : public policy::NoopPolicy {
+ public:
+  std::vector<policy::CameraRequest> cameras;
+  bool privileged = false;
+  std::vector<policy::Observation> seen;
+  policy::EpisodeInfo info;
+  policy::PolicySpec spec() const override {
+    policy::PolicySpec s = NoopPolicy::spec();
+    s.cameras = cameras;
+    s.privileged = privileged;
+    return s;
+  }
+  void reset(const policy::EpisodeInfo& i) override { info = i; }
+  policy::ActionChunk act(const policy::Observation& observation) override {
+    seen.push_back(observation);
+    return NoopPolicy::act(observation);
+  }
+};
+
+TEST_F(RunnerTest, CamerasAreRenderedAtTheRequestedSizesInRequestOrder) {
+  WatchingPolicy watcher;
+  watcher.cameras = {{"wrist", 16, 12}, {"agentview", 40, 30}};
   StandingHumanDriver driver;
-  EXPECT_THROW(run_episode(*model_, *data_, camera, driver, setup("cam"), RunOptions{}),
+  RunOptions options;
+  options.horizon = 0.2;
+  const EpisodeLog log = run_episode(*model_, *data_, watcher, driver, setup("cam"), options);
+  ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
+  ASSERT_EQ(watcher.seen.size(), 4u);
+  for (const policy::Observation& obs : watcher.seen) {
+    ASSERT_EQ(obs.images.size(), 2u);
+    EXPECT_EQ(obs.images[0].camera, "wrist");
+    EXPECT_EQ(obs.images[0].width, 16);
+    EXPECT_EQ(obs.images[0].height, 12);
+    EXPECT_EQ(obs.images[0].pixels.size(), 16u * 12u * 3u);
+    EXPECT_EQ(obs.images[1].camera, "agentview");
+    ASSERT_EQ(obs.images[1].pixels.size(), 40u * 30u * 3u);
+    // A real picture of the scene: not one flat colour.
+    const auto& px = obs.images[1].pixels;
+    EXPECT_NE(std::count(px.begin(), px.end(), px[0]), static_cast<long>(px.size()));
+    EXPECT_FALSE(obs.state.has_value());
+    EXPECT_TRUE(obs.events.empty());
+  }
+}
+
+TEST_F(RunnerTest, CamerasTheRunnerCannotRenderAreRefused) {
+  WatchingPolicy watcher;
+  watcher.cameras = {{"agentview", 32, 32}};
+  StandingHumanDriver driver;
+  RunOptions options;
+  options.render_backend = render::Backend::kNone;
+  try {
+    run_episode(*model_, *data_, watcher, driver, setup("cam"), options);
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "policy cam: expected a renderer for its cameras (osmesa or egl), "
+                                     "got render back end none");
+  }
+  watcher.cameras = {{"ceiling", 32, 32}};
+  EXPECT_THROW(run_episode(*model_, *data_, watcher, driver, setup("cam"), RunOptions{}),
                core::InputError);
+}
+
+TEST_F(RunnerTest, OnlyPrivilegedPoliciesSeeTheScenarioEvents) {
+  for (const bool privileged : {false, true}) {
+    WatchingPolicy watcher;
+    watcher.privileged = privileged;
+    SideStepDriver driver(0.5);
+    RunOptions options;
+    options.horizon = 1.0;
+    const EpisodeLog log = run_episode(*model_, *data_, watcher, driver, setup("watch"), options);
+    ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
+    EXPECT_EQ(watcher.info.episode, nullptr);  // this driver has no script
+    for (const policy::Observation& obs : watcher.seen) {
+      if (!privileged || obs.time + 1e-9 < 0.5) {
+        EXPECT_TRUE(obs.events.empty()) << obs.time;
+        continue;
+      }
+      ASSERT_EQ(obs.events.size(), 1u) << obs.time;
+      EXPECT_EQ(obs.events[0].name, "step.end");
+      EXPECT_EQ(obs.events[0].kind, "phase");
+      EXPECT_DOUBLE_EQ(obs.events[0].time, 0.5);
+    }
+  }
 }
 
 TEST_F(RunnerTest, FixedLatencyShiftsTheResponseByItsDuration) {
