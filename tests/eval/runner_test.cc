@@ -10,10 +10,13 @@
 #include "core/errors.h"
 #include "eval/metrics.h"
 #include "eval/parallel.h"
+#include "eval/script_driver.h"
 #include "human/skeleton.h"
 #include "model/model.h"
 #include "policy/builtin.h"
 #include "render/gl_context.h"
+#include "script/check.h"
+#include "script/sample.h"
 #include "sim/control.h"
 #include "sim/data.h"
 #include "support/mujoco_fixture.h"
@@ -358,6 +361,36 @@ TEST_F(RunnerTest, OnlyPrivilegedPoliciesSeeTheScenarioEvents) {
       EXPECT_EQ(obs.events[0].kind, "phase");
       EXPECT_DOUBLE_EQ(obs.events[0].time, 0.5);
     }
+  }
+}
+
+TEST_F(RunnerTest, PrivilegedPoliciesGetTheSampledEpisodeOfAScriptDriver) {
+  const script::EpisodeSpec spec =
+      script::sample(script::load_scenario("tests/data/scripts/good/stop_go.yaml"), 1);
+  const model::Model model = model::build(scene_spec_from_episode(spec));
+  sim::Data data = sim::make_data(model);
+  Watch(data.mj.get());
+  for (const bool privileged : {false, true}) {
+    WatchingPolicy watcher;
+    watcher.privileged = privileged;
+    ScriptDriver driver(spec);
+    RunOptions options;
+    options.horizon = 8.0;
+    const EpisodeLog log = run_episode(model, data, watcher, driver, setup("watch"), options);
+    ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
+    if (!privileged) {
+      EXPECT_EQ(watcher.info.episode, nullptr);
+      continue;
+    }
+    ASSERT_NE(watcher.info.episode, nullptr);
+    EXPECT_EQ(script::spec_hash(*watcher.info.episode), script::spec_hash(spec));
+    // The last observation lists the log's events up to its time, cues included.
+    const policy::Observation& last = watcher.seen.back();
+    size_t expected = 0;
+    for (const Event& event : log.events) expected += event.time <= last.time + 1e-9;
+    ASSERT_EQ(last.events.size(), expected);
+    EXPECT_TRUE(std::any_of(last.events.begin(), last.events.end(),
+                            [](const policy::ScriptEvent& e) { return e.kind == "cue"; }));
   }
 }
 
