@@ -2,6 +2,7 @@
 // Internal to the model layer: pieces of the generated MJCF text. Each generator appends
 // XML to a string; build() in model.cc assembles them and loads the result.
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -72,6 +73,12 @@ inline constexpr DhRow kPandaDh[8] = {
 
 // Nominal half extents (body frame, origin at the bottom centre) of an object kind at scale 1.
 core::Vec3 nominal_half_extents(ObjectKind kind);
+// Walls of an open container (bin, tray, box) at scale s: outer half extents hx, hy, wall
+// height and thickness (also the floor's), m. nullopt for other kinds.
+struct ContainerWalls {
+  double hx = 0, hy = 0, height = 0, thickness = 0;
+};
+std::optional<ContainerWalls> container_walls(ObjectKind kind, double s);
 // Nominal mass (kg) at scale 1 (scales with size_scale^3).
 double nominal_mass(ObjectKind kind);
 // One object as a free <body> named "object_<name>" at pose X_WO (appended to `worldbody`).

@@ -84,10 +84,11 @@ struct Resolved {
   std::vector<ObjectKind> kinds;
   std::vector<Rgba> colours;
   std::vector<Vec3> half_extents;
+  std::vector<double> bottom_z;  // world z of each object's bottom at the start (not held)
 };
 
 Resolved resolve(const SceneSpec& in) {
-  Resolved r{in, {}, {}, {}};
+  Resolved r{in, {}, {}, {}, {}};
   const auto finite = [](double v) { return std::isfinite(v); };
   if (!finite(in.light_intensity) || in.light_intensity < 0.2 || in.light_intensity > 2)
     throw core::InputError("scene.light_intensity", "a value in [0.2, 2]",
@@ -103,21 +104,34 @@ Resolved resolve(const SceneSpec& in) {
   std::set<std::string> names;
   std::vector<std::array<Eigen::Vector2d, 4>> prints;
   std::vector<size_t> on_table;
-  const PlatformSpec& pl = in.platform;
-  std::array<Eigen::Vector2d, 4> platform_print{};
-  if (pl.present) {
+  // Platforms.
+  std::vector<std::array<Eigen::Vector2d, 4>> platform_prints;
+  std::set<std::string> platform_names;
+  for (size_t i = 0; i < in.platforms.size(); ++i) {
+    PlatformSpec& pl = r.spec.platforms[i];
+    const std::string where = fmt::format("scene.platforms[{}]", i);
+    if (pl.name.empty()) pl.name = fmt::format("platform{}", i);
+    if (!valid_name(pl.name))
+      throw core::InputError(where + ".name", "1-40 characters of [A-Za-z0-9_]", "'" + pl.name + "'");
+    if (!platform_names.insert(pl.name).second)
+      throw core::InputError(where + ".name", "a name not used by another platform",
+                             "duplicate '" + pl.name + "'");
     if (!finite(pl.x) || !finite(pl.y) || !finite(pl.yaw) || !finite(pl.length) ||
         !finite(pl.width) || pl.length < 0.05 || pl.width < 0.05)
-      throw core::InputError("scene.platform", "finite x, y, yaw and length, width >= 0.05 m",
+      throw core::InputError(where, "finite x, y, yaw and length, width >= 0.05 m",
                              fmt::format("length {} width {}", pl.length, pl.width));
     if (!finite(pl.height) || pl.height < 0.02 || pl.height > 0.5)
-      throw core::InputError("scene.platform.height", "a height in [0.02, 0.5] m",
+      throw core::InputError(where + ".height", "a height in [0.02, 0.5] m",
                              fmt::format("{}", pl.height));
-    platform_print = footprint(pl.x, pl.y, pl.yaw, pl.length / 2, pl.width / 2);
-    for (const auto& p : platform_print)
+    platform_prints.push_back(footprint(pl.x, pl.y, pl.yaw, pl.length / 2, pl.width / 2));
+    for (const auto& p : platform_prints.back())
       if (p.x() < kTableXMin || p.x() > kTableXMax || std::abs(p.y()) > kTableWidth / 2)
-        throw core::InputError("scene.platform", "a platform footprint on the table",
+        throw core::InputError(where, "a platform footprint on the table",
                                fmt::format("off the table at x={:.3f} y={:.3f}", pl.x, pl.y));
+    for (size_t k = 0; k + 1 < platform_prints.size(); ++k)
+      if (overlap(platform_prints.back(), platform_prints[k]))
+        throw core::InputError(where, "platforms that do not overlap",
+                               fmt::format("'{}' overlaps '{}'", pl.name, r.spec.platforms[k].name));
   }
   for (size_t i = 0; i < in.objects.size(); ++i) {
     ObjectSpec& o = r.spec.objects[i];
@@ -147,6 +161,11 @@ Resolved resolve(const SceneSpec& in) {
     r.kinds.push_back(*kind);
     r.colours.push_back(*colour);
     r.half_extents.push_back(half);
+    const int placements = static_cast<int>(!o.inside.empty()) + static_cast<int>(!o.on.empty()) +
+                           static_cast<int>(o.held_by.has_value());
+    if (placements > 1)
+      throw core::InputError(where, "at most one of held_by, inside and on",
+                             fmt::format("'{}' has more than one", o.name));
     if (o.held_by) {
       if (!h.present)
         throw core::InputError(where + ".held_by", "a scene with a human", "no human");
@@ -156,6 +175,7 @@ Resolved resolve(const SceneSpec& in) {
                                  fmt::format("the {} hand already holds '{}'",
                                              human::to_string(*o.held_by), r.spec.objects[k].name));
       prints.emplace_back();
+      r.bottom_z.push_back(kTableTopZ);
       continue;
     }
     if (!finite(o.x) || !finite(o.y) || !finite(o.yaw))
@@ -171,16 +191,63 @@ Resolved resolve(const SceneSpec& in) {
     if (std::hypot(o.x, o.y) < kBaseKeepOut + std::hypot(half.x(), half.y()))
       throw core::InputError(where, "an object clear of the robot base",
                              fmt::format("'{}' on the base at x={:.3f} y={:.3f}", o.name, o.x, o.y));
+    // Inside a container: within its inner walls, on its floor.
+    double bottom = kTableTopZ;
+    int container = -1;
+    if (!o.inside.empty()) {
+      for (size_t k : on_table)
+        if (r.spec.objects[k].name == o.inside) container = static_cast<int>(k);
+      const size_t k = static_cast<size_t>(container);
+      const auto walls = container >= 0 ? mjcf::container_walls(r.kinds[k], r.spec.objects[k].size_scale)
+                                        : std::nullopt;
+      if (!walls || !r.spec.objects[k].inside.empty() || !r.spec.objects[k].on.empty())
+        throw core::InputError(where + ".inside",
+                               "an earlier bin, tray or box of the scene resting on the table",
+                               "'" + o.inside + "'");
+      const ObjectSpec& c = r.spec.objects[k];
+      const bool fits = std::all_of(fp.begin(), fp.end(), [&](const Eigen::Vector2d& p) {
+        const Eigen::Vector2d q = Eigen::Rotation2Dd(-c.yaw) * (p - Eigen::Vector2d(c.x, c.y));
+        return std::abs(q.x()) <= walls->hx - walls->thickness + 1e-9 &&
+               std::abs(q.y()) <= walls->hy - walls->thickness + 1e-9;
+      });
+      const bool low = r.kinds[k] != ObjectKind::kBox || 2 * half.z() <= walls->height - walls->thickness;
+      if (!fits || !low)
+        throw core::InputError(where + ".inside", "an object that fits within the container's walls",
+                               fmt::format("'{}' does not fit in '{}'", o.name, c.name));
+      bottom = kTableTopZ + walls->thickness;
+    }
+    // On a platform: its footprint centre over the platform, on its top.
+    int platform = -1;
+    if (!o.on.empty()) {
+      for (size_t k = 0; k < r.spec.platforms.size(); ++k)
+        if (r.spec.platforms[k].name == o.on) platform = static_cast<int>(k);
+      if (platform < 0)
+        throw core::InputError(where + ".on", "the name of a platform of the scene", "'" + o.on + "'");
+      const PlatformSpec& pl = r.spec.platforms[static_cast<size_t>(platform)];
+      const Eigen::Vector2d q = Eigen::Rotation2Dd(-pl.yaw) * Eigen::Vector2d(o.x - pl.x, o.y - pl.y);
+      if (std::abs(q.x()) > pl.length / 2 || std::abs(q.y()) > pl.width / 2)
+        throw core::InputError(where + ".on", "a footprint centre over the platform",
+                               fmt::format("'{}' at x={:.3f} y={:.3f} is off '{}'", o.name, o.x, o.y, pl.name));
+      bottom = kTableTopZ + pl.height;
+    }
     for (size_t k : on_table) {
+      // An object and its container, or objects on different levels, do not collide (an object
+      // on the table over a container or platform was refused with that container/platform).
+      if (static_cast<int>(k) == container) continue;
+      if (r.spec.objects[k].inside != o.inside || r.spec.objects[k].on != o.on) continue;
       if (overlap(fp, prints[k]))
         throw core::InputError(where, "objects that do not overlap",
                                fmt::format("'{}' overlaps '{}'", o.name, r.spec.objects[k].name));
     }
-    if (pl.present && overlap(fp, platform_print))
-      throw core::InputError(where, "an object clear of the platform",
-                             fmt::format("'{}' overlaps the platform", o.name));
+    for (size_t k = 0; k < platform_prints.size(); ++k) {
+      if (static_cast<int>(k) == platform || !overlap(fp, platform_prints[k])) continue;
+      throw core::InputError(where, "an object clear of the platforms",
+                             fmt::format("'{}' overlaps the platform '{}'", o.name,
+                                         r.spec.platforms[k].name));
+    }
     prints.push_back(fp);
     on_table.push_back(i);
+    r.bottom_z.push_back(bottom);
   }
   return r;
 }
@@ -267,11 +334,10 @@ Generated generate(const SceneSpec& spec) {
         i, mjcf::vec(Vec3(x, y, (kTableTopZ - 0.05) / 2)), mjcf::num((kTableTopZ - 0.05) / 2));
     world += "\n";
   }
-  if (s.platform.present) {
-    const PlatformSpec& pl = s.platform;
+  for (const PlatformSpec& pl : s.platforms) {
     world += fmt::format(
-        R"(<geom name="platform" class="static" type="box" pos="{}" quat="{}" size="{}" rgba="0.55 0.45 0.35 1"/>)",
-        mjcf::vec(Vec3(pl.x, pl.y, kTableTopZ + pl.height / 2)),
+        R"(<geom name="platform_{}" class="static" type="box" pos="{}" quat="{}" size="{}" rgba="0.55 0.45 0.35 1"/>)",
+        pl.name, mjcf::vec(Vec3(pl.x, pl.y, kTableTopZ + pl.height / 2)),
         mjcf::quat(core::axis_angle(Vec3::UnitZ(), pl.yaw)),
         mjcf::vec(Vec3(pl.length / 2, pl.width / 2, pl.height / 2)));
     world += "\n";
@@ -299,7 +365,7 @@ Generated generate(const SceneSpec& spec) {
     }
     if (!o.held_by) {
       X_WO.rotation = core::axis_angle(Vec3::UnitZ(), o.yaw);
-      X_WO.translation = Vec3(o.x, o.y, kTableTopZ);
+      X_WO.translation = Vec3(o.x, o.y, g.resolved.bottom_z[i]);
     }
     g.X_W_start.push_back(X_WO);
     g.X_palm_hold.push_back(hold);
@@ -478,6 +544,17 @@ SceneSpec SceneSpec::Default() {
   return s;
 }
 
+int Model::platform_index(std::string_view name) const {
+  for (size_t i = 0; i < platforms.size(); ++i)
+    if (platforms[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+double container_floor_height(ObjectKind kind, double size_scale) {
+  const auto walls = mjcf::container_walls(kind, size_scale);
+  return walls ? walls->thickness : 0.0;
+}
+
 int Model::object_index(std::string_view name) const {
   for (size_t i = 0; i < objects.size(); ++i)
     if (objects[i].name == name) return static_cast<int>(i);
@@ -521,7 +598,15 @@ Model build(const SceneSpec& spec) {
   model.wrist_camera = id_of(m, mjOBJ_CAMERA, "wrist");
   model.table_geom = id_of(m, mjOBJ_GEOM, "table");
   model.floor_geom = id_of(m, mjOBJ_GEOM, "floor");
-  if (model.spec.platform.present) model.platform_geom = id_of(m, mjOBJ_GEOM, "platform");
+  for (const PlatformSpec& pl : model.spec.platforms) {
+    PlatformInfo info;
+    info.name = pl.name;
+    info.geom = id_of(m, mjOBJ_GEOM, "platform_" + pl.name);
+    info.X_WC.rotation = core::axis_angle(Vec3::UnitZ(), pl.yaw);
+    info.X_WC.translation = Vec3(pl.x, pl.y, kTableTopZ + pl.height / 2);
+    info.half_extents = Vec3(pl.length / 2, pl.width / 2, pl.height / 2);
+    model.platforms.push_back(std::move(info));
+  }
 
   // Human.
   model.human_body.fill(-1);
@@ -589,8 +674,8 @@ Model build(const SceneSpec& spec) {
            model.human_capsules[c].joint};
   }
   model.geom_tags[static_cast<size_t>(model.floor_geom)].owner = GeomOwner::kFloor;
-  if (model.platform_geom >= 0)
-    model.geom_tags[static_cast<size_t>(model.platform_geom)].owner = GeomOwner::kPlatform;
+  for (size_t k = 0; k < model.platforms.size(); ++k)
+    model.geom_tags[static_cast<size_t>(model.platforms[k].geom)] = {GeomOwner::kPlatform, static_cast<int>(k)};
   for (int gid = 0; gid < m->ngeom; ++gid) {
     const char* name = mj_id2name(m, mjOBJ_GEOM, gid);
     if (name != nullptr && std::strncmp(name, "table", 5) == 0)

@@ -53,8 +53,9 @@ struct ObjectSpec {
   std::string name;           // unique among objects; [A-Za-z0-9_]+; default: "<kind><index>"
   std::string colour = "red"; // see colour_from_name
   // Position of the object's footprint centre on the table top (world frame, m) and its yaw
-  // about +z (rad). The object rests on the table (its bottom at table_top_z). The footprint
-  // must lie inside the table top. Ignored when held_by is set.
+  // about +z (rad). The object rests on the table (its bottom at table_top_z), or in its
+  // container (inside) or on its platform (on). The footprint must lie inside the table top.
+  // Ignored when held_by is set.
   double x = 0.5;
   double y = 0.0;
   double yaw = 0.0;
@@ -65,6 +66,15 @@ struct ObjectSpec {
   // other human capsules do.
   // If set, the object starts in this human hand (held, see sim::hold) instead of on the table.
   std::optional<human::Side> held_by;
+  // If set, the object starts inside this container (the name of an open-top bin, tray or box
+  // of the spec), resting on its floor: x/y are still its footprint centre in world, and its
+  // footprint must lie within the container's inner walls (a box's item must also fit under
+  // the closed lid). Not with held_by or on.
+  std::string inside;
+  // If set, the object starts resting on this platform (a PlatformSpec name): its bottom at the
+  // platform's top, its footprint centre over the platform (it may overhang). Not with
+  // held_by or inside.
+  std::string on;
 };
 
 struct HumanSpec {
@@ -78,10 +88,11 @@ struct HumanSpec {
   human::Side handedness = human::Side::kRight;
 };
 
-// An optional raised platform: a fixed box standing on the table top (e.g. where the plank is
-// lowered in co_lift). Objects may not start overlapping its footprint.
+// A raised platform: a fixed box standing on the table top (e.g. the support a plank starts on
+// and the platform it is lowered onto in co_lift). Objects may not start overlapping its
+// footprint unless they rest on it (ObjectSpec::on).
 struct PlatformSpec {
-  bool present = false;
+  std::string name;                  // unique among platforms, [A-Za-z0-9_]+; default "platform<i>"
   double x = 0.6, y = 0.3, yaw = 0;  // footprint centre on the table (world, m) and yaw (rad)
   double length = 0.7;               // along its x axis, m
   double width = 0.25;               // along its y axis, m
@@ -91,7 +102,7 @@ struct PlatformSpec {
 struct SceneSpec {
   std::vector<ObjectSpec> objects;
   HumanSpec human;
-  PlatformSpec platform;
+  std::vector<PlatformSpec> platforms;
   // Light intensity multiplier in [0.2, 2] (lighting variation axis).
   double light_intensity = 1.0;
   // Lights cast shadows (MuJoCo's shadow map; costly on llvmpipe). Off by default.
@@ -142,7 +153,7 @@ enum class GeomOwner {
   kRobotFinger,  // index = 0 (left finger) or 1 (right finger); includes the finger pads
   kHuman,        // index = capsule index in Model::human_capsules; region/joint set
   kObject,       // index = object index in Model::objects
-  kPlatform,     // a raised platform, if any
+  kPlatform,     // a raised platform; index = platform index in Model::platforms
 };
 std::string_view to_string(GeomOwner owner);
 
@@ -177,7 +188,8 @@ struct ObjectInfo {
   // at the centre of the footprint on the bottom face (z up), so the object occupies
   // [-hx, hx] x [-hy, hy] x [0, 2 hz].
   core::Vec3 half_extents = core::Vec3::Zero();
-  // Pose of the object body in world at reset (on the table, or in the hand if held_by).
+  // Pose of the object body in world at reset (on the table, in its container, on its
+  // platform, or in the hand if held_by).
   core::Pose X_W_start;
   std::optional<human::Side> held_by;  // from the spec
   int lid_body = -1;   // kBox only: the lid body, else -1
@@ -187,6 +199,18 @@ struct ObjectInfo {
   // pose, its centre just off the palm along the palm normal (outside the hand capsule).
   core::Pose X_palm_hold;
 };
+
+// A built platform: a static box geom (GeomTag owner kPlatform, index = platform index).
+struct PlatformInfo {
+  std::string name;
+  int geom = -1;                                 // MuJoCo geom id
+  core::Pose X_WC;                               // pose of the box's centre in world (yaw only)
+  core::Vec3 half_extents = core::Vec3::Zero();  // half sizes (length, width, height) / 2, m
+};
+
+// Height of the floor's top above the bottom of an open container (bin, tray, box), i.e. where
+// an object inside rests, m; 0 for other kinds.
+double container_floor_height(ObjectKind kind, double size_scale);
 
 struct Model {
   SceneSpec spec;  // the spec it was built from, defaults resolved (e.g. object names)
@@ -245,7 +269,10 @@ struct Model {
   // Fixed geoms.
   int table_geom = -1;
   int floor_geom = -1;
-  int platform_geom = -1;  // -1 without a platform; its top is at kTableTopZ + height
+  // Platforms, in spec order (a platform's top is at kTableTopZ + its height).
+  std::vector<PlatformInfo> platforms;
+  // Platform index by name, or -1.
+  int platform_index(std::string_view name) const;
 
   Model() = default;
   Model(Model&&) = default;
@@ -255,7 +282,9 @@ struct Model {
 };
 
 // Builds the model. Throws core::InputError on a bad spec (unknown object kind or colour,
-// duplicate or malformed name, object off the table, bad size_scale/height/light) or if MuJoCo
+// duplicate or malformed name, object off the table, bad size_scale/height/light, an object
+// inside something that is not a container of the spec or not fitting in it, an object on an
+// unknown platform) or if MuJoCo
 // rejects the generated MJCF (a bug: the message carries MuJoCo's error).
 Model build(const SceneSpec& spec);
 

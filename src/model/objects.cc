@@ -15,9 +15,9 @@ namespace {
 using core::Vec3;
 
 
-// An open container: a floor and four walls, outer half extents (hx, hy), wall height h,
-// thickness t.
-std::vector<Shape> container(double hx, double hy, double h, double t) {
+// An open container: a floor and four walls.
+std::vector<Shape> container(const ContainerWalls& w) {
+  const double hx = w.hx, hy = w.hy, h = w.height, t = w.thickness;
   return {box(Vec3(0, 0, t / 2), Vec3(hx, hy, t / 2)),
           box(Vec3(hx - t / 2, 0, h / 2), Vec3(t / 2, hy, h / 2)),
           box(Vec3(-hx + t / 2, 0, h / 2), Vec3(t / 2, hy, h / 2)),
@@ -43,11 +43,9 @@ std::vector<Shape> shapes(ObjectKind kind, double s) {
               {Shape::kBox, Vec3(0, 0, 0.008 * s), Vec3(a, a, 0.008 * s), 0, core::kPi / 4}};
     }
     case ObjectKind::kBin:
-      return container(0.12 * s, 0.09 * s, 0.1 * s, 0.008);
     case ObjectKind::kTray:
-      return container(0.15 * s, 0.11 * s, 0.025 * s, 0.006);
     case ObjectKind::kBox:
-      return container(0.1 * s, 0.08 * s, 0.12 * s, 0.008);
+      return container(*container_walls(kind, s));
     case ObjectKind::kPlank:
       return {box(Vec3(0, 0, 0.02 * s), Vec3(0.3, 0.03, 0.02) * s)};
   }
@@ -55,6 +53,15 @@ std::vector<Shape> shapes(ObjectKind kind, double s) {
 }
 
 }  // namespace
+
+std::optional<ContainerWalls> container_walls(ObjectKind kind, double s) {
+  switch (kind) {
+    case ObjectKind::kBin: return ContainerWalls{0.12 * s, 0.09 * s, 0.1 * s, 0.008};
+    case ObjectKind::kTray: return ContainerWalls{0.15 * s, 0.11 * s, 0.025 * s, 0.006};
+    case ObjectKind::kBox: return ContainerWalls{0.1 * s, 0.08 * s, 0.12 * s, 0.008};
+    default: return std::nullopt;
+  }
+}
 
 core::Vec3 nominal_half_extents(ObjectKind kind) {
   switch (kind) {

@@ -184,29 +184,134 @@ TEST_F(ModelTest, RejectsBadNamesScalesHumansAndHolds) {
   EXPECT_THAT(build_error(spec), HasSubstr("expected a free hand, got the left hand already holds 'cube'"));
 }
 
+// qpos[adr] after 1 s of passive physics from the home keyframe (the arm holds its pose).
+double settled_qpos(const Model& model, int adr) {
+  const mjModel* m = model.m();
+  mjData* d = mj_makeData(m);
+  mj_resetDataKeyframe(m, d, 0);
+  for (int i = 0; i < 500; ++i) mj_step(m, d);
+  const double q = d->qpos[adr];
+  mj_deleteData(d);
+  return q;
+}
+
 TEST_F(ModelTest, PlatformIsAStaticTaggedBoxOnTheTable) {
   SceneSpec spec = SceneSpec::Default();
-  spec.platform.present = true;
-  spec.platform.x = 0.75;
-  spec.platform.y = 0.3;
-  spec.platform.length = 0.5;
-  spec.platform.width = 0.2;
-  spec.platform.height = 0.1;
+  PlatformSpec platform;
+  platform.name = "stand";
+  platform.x = 0.75;
+  platform.y = 0.3;
+  platform.length = 0.5;
+  platform.width = 0.2;
+  platform.height = 0.1;
+  spec.platforms = {platform};
   spec.objects[1].x = 0.3;  // the cup out of the platform's way
   const Model model = build(spec);
-  ASSERT_GE(model.platform_geom, 0);
-  EXPECT_EQ(model.geom_tags[static_cast<size_t>(model.platform_geom)].owner, GeomOwner::kPlatform);
+  ASSERT_EQ(model.platforms.size(), 1u);
+  EXPECT_EQ(model.platform_index("stand"), 0);
+  EXPECT_EQ(model.platform_index("nope"), -1);
+  const int geom = model.platforms[0].geom;
+  ASSERT_GE(geom, 0);
+  EXPECT_EQ(model.geom_tags[static_cast<size_t>(geom)].owner, GeomOwner::kPlatform);
+  EXPECT_EQ(model.geom_tags[static_cast<size_t>(geom)].index, 0);
   const mjModel* m = model.m();
-  EXPECT_EQ(m->body_weldid[m->geom_bodyid[model.platform_geom]], 0);  // fixed to the world
-  EXPECT_NEAR(m->geom_pos[3 * model.platform_geom + 2] + m->geom_size[3 * model.platform_geom + 2],
-              kTableTopZ + 0.1, 1e-9);
+  EXPECT_EQ(m->body_weldid[m->geom_bodyid[geom]], 0);  // fixed to the world
+  EXPECT_NEAR(m->geom_pos[3 * geom + 2] + m->geom_size[3 * geom + 2], kTableTopZ + 0.1, 1e-9);
+  EXPECT_NEAR(model.platforms[0].X_WC.translation.z() + model.platforms[0].half_extents.z(),
+              kTableTopZ + 0.1, 1e-12);
+  EXPECT_NEAR(model.platforms[0].half_extents.x(), 0.25, 1e-12);
   spec.objects[1].x = 0.7;
   EXPECT_EQ(build_error(spec),
-            "scene.objects[1]: expected an object clear of the platform, got 'cup' overlaps the platform");
+            "scene.objects[1]: expected an object clear of the platforms, got 'cup' overlaps the platform 'stand'");
   spec.objects[1].x = 0.3;
-  spec.platform.height = 0.8;
-  EXPECT_EQ(build_error(spec), "scene.platform.height: expected a height in [0.02, 0.5] m, got 0.8");
-  EXPECT_EQ(build(SceneSpec::Default()).platform_geom, -1);
+  spec.platforms[0].height = 0.8;
+  EXPECT_EQ(build_error(spec), "scene.platforms[0].height: expected a height in [0.02, 0.5] m, got 0.8");
+  spec.platforms[0].height = 0.1;
+  spec.platforms.push_back(platform);
+  spec.platforms[1].y = -0.3;
+  EXPECT_EQ(build_error(spec),
+            "scene.platforms[1].name: expected a name not used by another platform, got duplicate 'stand'");
+  spec.platforms[1].name = "";
+  spec.platforms[1].y = 0.25;
+  EXPECT_EQ(build_error(spec),
+            "scene.platforms[1]: expected platforms that do not overlap, got 'platform1' overlaps 'stand'");
+  EXPECT_TRUE(build(SceneSpec::Default()).platforms.empty());
+}
+
+TEST_F(ModelTest, ObjectOnAPlatformRestsOnItsTopAndMayOverhang) {
+  SceneSpec spec = SceneSpec::Default();
+  PlatformSpec support;
+  support.name = "support";
+  support.x = 0.62;
+  support.y = 0.0;
+  support.length = 0.5;
+  support.width = 0.12;
+  support.height = 0.08;
+  spec.platforms = {support};
+  ObjectSpec plank;
+  plank.kind = "plank";
+  plank.name = "plank";
+  plank.x = 0.62;
+  plank.on = "support";
+  spec.objects = {plank};
+  const Model model = build(spec);
+  EXPECT_NEAR(model.objects[0].X_W_start.translation.z(), kTableTopZ + 0.08, 1e-12);
+  // It stays there (the 0.6 m plank overhangs the 0.5 m support at both ends).
+  EXPECT_NEAR(settled_qpos(model, model.objects[0].qpos_adr + 2), kTableTopZ + 0.08, 2e-3);
+  spec.objects[0].on = "";
+  EXPECT_EQ(build_error(spec),
+            "scene.objects[0]: expected an object clear of the platforms, got 'plank' overlaps the platform 'support'");
+  spec.objects[0].on = "table";
+  EXPECT_EQ(build_error(spec), "scene.objects[0].on: expected the name of a platform of the scene, got 'table'");
+  spec.objects[0].on = "support";
+  spec.objects[0].y = 0.1;
+  EXPECT_EQ(build_error(spec),
+            "scene.objects[0].on: expected a footprint centre over the platform, got 'plank' at x=0.620 y=0.100 is off 'support'");
+}
+
+TEST_F(ModelTest, ObjectInsideAContainerRestsOnItsFloor) {
+  SceneSpec spec = SceneSpec::Default();
+  ObjectSpec box;
+  box.kind = "box";
+  box.name = "box";
+  box.x = 0.68;
+  ObjectSpec item;
+  item.kind = "cup";
+  item.name = "item";
+  item.x = 0.68;
+  item.inside = "box";
+  spec.objects = {box, item};
+  const Model model = build(spec);
+  EXPECT_NEAR(model.objects[1].X_W_start.translation.z(),
+              kTableTopZ + container_floor_height(ObjectKind::kBox, 1.0), 1e-12);
+  EXPECT_GT(container_floor_height(ObjectKind::kBin, 1.0), 0);
+  EXPECT_EQ(container_floor_height(ObjectKind::kCube, 1.0), 0);
+  EXPECT_NEAR(settled_qpos(model, model.objects[1].qpos_adr), 0.68, 2e-3);
+  EXPECT_NEAR(settled_qpos(model, model.objects[1].qpos_adr + 2),
+              model.objects[1].X_W_start.translation.z(), 2e-3);
+  // Refused: not fitting, not a container, the container later, held and inside.
+  spec.objects[1].x = 0.76;
+  EXPECT_EQ(build_error(spec),
+            "scene.objects[1].inside: expected an object that fits within the container's walls, got 'item' does not fit in 'box'");
+  spec.objects[1].x = 0.68;
+  spec.objects[1].kind = "bottle";  // taller than the closed box
+  EXPECT_EQ(build_error(spec),
+            "scene.objects[1].inside: expected an object that fits within the container's walls, got 'item' does not fit in 'box'");
+  spec.objects[1].kind = "cup";
+  spec.objects[0].kind = "plate";
+  EXPECT_EQ(build_error(spec),
+            "scene.objects[1].inside: expected an earlier bin, tray or box of the scene resting on the table, got 'box'");
+  spec.objects[0].kind = "box";
+  std::swap(spec.objects[0], spec.objects[1]);
+  spec.objects[1].x = 0.5;
+  spec.objects[1].inside = "";
+  spec.objects[0].inside = "box";
+  EXPECT_THAT(build_error(spec), HasSubstr("expected an earlier bin, tray or box"));
+  spec.objects[0].inside = "";
+  spec.objects[0].x = 0.68;
+  spec.objects[0].held_by = human::Side::kRight;
+  spec.objects[0].inside = "box";
+  EXPECT_EQ(build_error(spec), "scene.objects[0]: expected at most one of held_by, inside and on, got 'item' has more than one");
 }
 
 TEST_F(ModelTest, NamesAndColours) {
