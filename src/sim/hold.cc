@@ -8,41 +8,72 @@ namespace {
 constexpr double kHoldFrequency = 2 * core::kPi * 12;  // rad/s, critically damped
 constexpr double kLidForceMax = 3.0;  // N, spring force limit of a lid hold
 
-// Lid hold: a point spring-damper from the grasped lid point to the palm centre, on the lid's
-// effective mass at its free edge (a plate hinged at one edge: m / 3), plus the lid's weight.
-// The lid's state is that of the last forward pass (one step old).
-void apply_lid_wrench(const model::Model& model, Data& data, HoldState& h,
-                      const model::ObjectInfo& o, const core::Vec3& target) {
+// Point hold: a spring-damper from the grasped point of `body` to the palm centre, on the
+// effective mass `mass` at that point, force limited to `force_max`, plus `weight` x the body's
+// weight. The body's state is that of the last forward pass (one step old). Adds to
+// xfrc_applied (two hands may hold one body).
+void apply_point_wrench(const model::Model& model, Data& data, HoldState& h, int body,
+                        double mass, double force_max, double weight, const core::Vec3& target) {
   const mjModel* m = model.m();
   mjData* d = data.mj.get();
-  const int lid = o.lid_body;
   const double dt = m->opt.timestep;
   core::Vec3 v_target = core::Vec3::Zero();
   if (h.has_last_target) v_target = (target - h.X_W_last_target.translation) / dt;
   h.X_W_last_target.translation = target;
   h.has_last_target = true;
-  const core::Vec3 origin(d->xpos[3 * lid], d->xpos[3 * lid + 1], d->xpos[3 * lid + 2]);
-  const core::Quat r = core::quat_from_wxyz(d->xquat + 4 * lid).normalized();
+  const core::Vec3 origin(d->xpos[3 * body], d->xpos[3 * body + 1], d->xpos[3 * body + 2]);
+  const core::Quat r = core::quat_from_wxyz(d->xquat + 4 * body).normalized();
   const core::Vec3 point = origin + r * h.p_lid_grasp;
   // Velocity of the grasped point (world frame, from cvel).
   mjtNum vel[6];
-  mj_objectVelocity(m, d, mjOBJ_BODY, lid, vel, 0);
+  mj_objectVelocity(m, d, mjOBJ_BODY, body, vel, 0);
   const core::Vec3 w(vel[0], vel[1], vel[2]);
   const core::Vec3 v_point = core::Vec3(vel[3], vel[4], vel[5]) + w.cross(point - origin);
-  const double mass = m->body_mass[lid];
   const double k = kHoldFrequency;
-  core::Vec3 spring = mass / 3 * (k * k * (target - point) + 2 * k * (v_target - v_point));
-  // A hand out of the lid's reach pulls with at most kLidForceMax, not enough to drag the box.
-  if (spring.norm() > kLidForceMax) spring *= kLidForceMax / spring.norm();
+  core::Vec3 spring = mass * (k * k * (target - point) + 2 * k * (v_target - v_point));
+  // A hand out of reach pulls with at most force_max (a lid hold cannot drag its box).
+  if (spring.norm() > force_max) spring *= force_max / spring.norm();
   const core::Vec3 gravity(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
-  const core::Vec3 com(d->xipos[3 * lid], d->xipos[3 * lid + 1], d->xipos[3 * lid + 2]);
-  const core::Vec3 force = spring - mass * gravity;
+  const core::Vec3 com(d->xipos[3 * body], d->xipos[3 * body + 1], d->xipos[3 * body + 2]);
+  const core::Vec3 force = spring - weight * m->body_subtreemass[body] * gravity;
   const core::Vec3 torque = (point - com).cross(spring);
-  mjtNum* xfrc = d->xfrc_applied + 6 * lid;
+  mjtNum* xfrc = d->xfrc_applied + 6 * body;
   for (int i = 0; i < 3; ++i) {
-    xfrc[i] = force[i];
-    xfrc[3 + i] = torque[i];
+    xfrc[i] += force[i];
+    xfrc[3 + i] += torque[i];
   }
+}
+
+// The body a hold pulls on: the lid of a box, else the object.
+int held_body(const model::ObjectInfo& o, const HoldState& h) {
+  return h.lid && o.lid_body >= 0 ? o.lid_body : o.body;
+}
+
+// Starts a point hold of `body` (the lid or the object) at its box geom point nearest the palm
+// (box_geom < 0: the object's bounding box in its body frame).
+void grasp_point(const model::Model& model, Data& data, human::Side side, int object, int body,
+                 int box_geom) {
+  release_by_human(model, data, side);
+  forward(model, data);
+  const mjData* d = data.mj.get();
+  const mjModel* m = model.m();
+  core::Pose X_WL;
+  X_WL.translation = core::Vec3(d->xpos[3 * body], d->xpos[3 * body + 1], d->xpos[3 * body + 2]);
+  X_WL.rotation = core::quat_from_wxyz(d->xquat + 4 * body).normalized();
+  const core::Vec3 palm_L = X_WL.inverse() * palm_pose(model, data, side).translation;
+  core::Vec3 centre, half;
+  if (box_geom >= 0) {
+    centre = core::Vec3(m->geom_pos[3 * box_geom], m->geom_pos[3 * box_geom + 1], m->geom_pos[3 * box_geom + 2]);
+    half = core::Vec3(m->geom_size[3 * box_geom], m->geom_size[3 * box_geom + 1], m->geom_size[3 * box_geom + 2]);
+  } else {
+    half = model.objects[static_cast<size_t>(object)].half_extents;
+    centre = core::Vec3(0, 0, half.z());
+  }
+  HoldState& h = data.hold[static_cast<size_t>(side)];
+  h.object = object;
+  h.lid = true;
+  h.p_lid_grasp = centre + (palm_L - centre).cwiseMax(-half).cwiseMin(half);
+  h.has_last_target = false;
 }
 
 }  // namespace
@@ -60,8 +91,10 @@ void grasp_by_human(const model::Model& model, Data& data, human::Side side, int
   HRIB_CHECK(object >= 0 && static_cast<size_t>(object) < model.objects.size())
       << "object index " << object;
   release_by_human(model, data, side);
-  for (HoldState& other : data.hold)  // an object is held by one hand at a time
-    if (other.object == object && !other.lid) other = HoldState{};
+  // An object is held by one hand at a time (a box's lid hold is on another body).
+  const bool has_lid = model.objects[static_cast<size_t>(object)].lid_body >= 0;
+  for (HoldState& other : data.hold)
+    if (other.object == object && (!other.lid || !has_lid)) other = HoldState{};
   HoldState& h = data.hold[static_cast<size_t>(side)];
   h.object = object;
   h.X_palm_obj = X_palm_obj;
@@ -85,32 +118,27 @@ void grasp_lid_by_human(const model::Model& model, Data& data, human::Side side,
       << "object index " << object;
   const model::ObjectInfo& o = model.objects[static_cast<size_t>(object)];
   HRIB_CHECK(o.lid_body >= 0) << "object " << o.name << " has no lid";
-  release_by_human(model, data, side);
-  // Nearest point of the lid (its box geom, in the lid frame) to the palm centre, from the
-  // current state.
-  forward(model, data);
-  const mjModel* m = model.m();
-  const mjData* d = data.mj.get();
-  const int lid = o.lid_body;
-  core::Pose X_WL;
-  X_WL.translation = core::Vec3(d->xpos[3 * lid], d->xpos[3 * lid + 1], d->xpos[3 * lid + 2]);
-  X_WL.rotation = core::quat_from_wxyz(d->xquat + 4 * lid).normalized();
-  const core::Vec3 palm_L = X_WL.inverse() * palm_pose(model, data, side).translation;
-  const int geom = m->body_geomadr[lid];
-  const core::Vec3 centre(m->geom_pos[3 * geom], m->geom_pos[3 * geom + 1], m->geom_pos[3 * geom + 2]);
-  const core::Vec3 half(m->geom_size[3 * geom], m->geom_size[3 * geom + 1], m->geom_size[3 * geom + 2]);
-  HoldState& h = data.hold[static_cast<size_t>(side)];
-  h.object = object;
-  h.lid = true;
-  h.p_lid_grasp = centre + (palm_L - centre).cwiseMax(-half).cwiseMin(half);
-  h.has_last_target = false;
+  grasp_point(model, data, side, object, o.lid_body, model.m()->body_geomadr[o.lid_body]);
+}
+
+void grasp_point_by_human(const model::Model& model, Data& data, human::Side side, int object) {
+  HRIB_CHECK(model.has_human) << "grasp_point_by_human without a human";
+  HRIB_CHECK(object >= 0 && static_cast<size_t>(object) < model.objects.size())
+      << "object index " << object;
+  const model::ObjectInfo& o = model.objects[static_cast<size_t>(object)];
+  HRIB_CHECK(o.lid_body < 0) << "object " << o.name << " has a lid (grasp_lid_by_human)";
+  // A full hold of this object by the other hand ends (an object is held one way at a time).
+  for (const human::Side other : {human::Side::kLeft, human::Side::kRight})
+    if (data.hold[static_cast<size_t>(other)].object == object && !data.hold[static_cast<size_t>(other)].lid)
+      release_by_human(model, data, other);
+  grasp_point(model, data, side, object, o.body, -1);
 }
 
 void release_by_human(const model::Model& model, Data& data, human::Side side) {
   HoldState& h = data.hold[static_cast<size_t>(side)];
   if (h.object >= 0) {
     const model::ObjectInfo& o = model.objects[static_cast<size_t>(h.object)];
-    mju_zero(data.mj->xfrc_applied + 6 * (h.lid ? o.lid_body : o.body), 6);
+    mju_zero(data.mj->xfrc_applied + 6 * held_body(o, h), 6);
   }
   h = HoldState{};
 }
@@ -126,12 +154,21 @@ void apply_hold_wrenches(const model::Model& model, Data& data) {
   mjData* d = data.mj.get();
   const double w = kHoldFrequency;
   const double dt = m->opt.timestep;
+  // Holds add up (two hands may point-hold one body): clear the held bodies first.
+  for (const HoldState& h : data.hold)
+    if (h.object >= 0) mju_zero(d->xfrc_applied + 6 * held_body(model.objects[static_cast<size_t>(h.object)], h), 6);
   for (const human::Side side : {human::Side::kLeft, human::Side::kRight}) {
     HoldState& h = data.hold[static_cast<size_t>(side)];
     if (h.object < 0) continue;
     const model::ObjectInfo& o = model.objects[static_cast<size_t>(h.object)];
+    const core::Vec3 palm = palm_pose(model, data, side).translation;
+    if (h.lid && o.lid_body >= 0) {
+      // A lid: its mass at the free edge (a plate hinged at one edge: m / 3), its weight.
+      apply_point_wrench(model, data, h, o.lid_body, m->body_mass[o.lid_body] / 3, kLidForceMax, 1.0, palm);
+      continue;
+    }
     if (h.lid) {
-      apply_lid_wrench(model, data, h, o, palm_pose(model, data, side).translation);
+      apply_point_wrench(model, data, h, o.body, m->body_subtreemass[o.body] / 8, kPointHoldForceMax, 0.0, palm);
       continue;
     }
     const int body = o.body;
@@ -174,8 +211,8 @@ void apply_hold_wrenches(const model::Model& model, Data& data) {
         inertia * (w * w * (err.axis() * err.angle()) + 2 * w * (w_target - omega));
     mjtNum* xfrc = d->xfrc_applied + 6 * body;
     for (int k = 0; k < 3; ++k) {
-      xfrc[k] = force[k];
-      xfrc[3 + k] = torque[k];
+      xfrc[k] += force[k];
+      xfrc[3 + k] += torque[k];
     }
   }
 }

@@ -36,9 +36,17 @@ void grasp_by_human(const model::Model& model, Data& data, human::Side side, int
 // (about 4x the lid's weight) so a hand that leaves the lid's arc cannot drag the box. The
 // hand should follow the lid's arc (lift the free edge); lifting the hand opens the lid.
 void grasp_lid_by_human(const model::Model& model, Data& data, human::Side side, int object);
+// Holds `object` (any kind without a lid, e.g. a plank's end) at the point of its bounding box
+// nearest to the palm centre now: a 3-D spring-damper (12 Hz on 1/8 of the object's mass: a
+// free rod's end moves like m / 4, shared by two hands; force limited to kPointHoldForceMax) pulls that point toward the palm centre; the object turns
+// freely about it. Both hands may point-hold the same object (two grips across a plank's end
+// keep it from rolling; its pitch is left to whoever holds the other end). Stored as a
+// HoldState with `lid` set (a point hold) on an object without a lid body.
+inline constexpr double kPointHoldForceMax = 150;  // N per hand
+void grasp_point_by_human(const model::Model& model, Data& data, human::Side side, int object);
 // Lets go: the object is free again (it falls unless something supports it).
 void release_by_human(const model::Model& model, Data& data, human::Side side);
-// Object index held by that hand, or nullopt.
+// Object index held by that hand (by any kind of hold), or nullopt.
 std::optional<int> held_object(const Data& data, human::Side side);
 
 // Pose of the palm frame in world for the current human pose (model.X_wrist_palm).

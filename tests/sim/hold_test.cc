@@ -117,6 +117,80 @@ TEST_F(HoldTest, GraspCapturesTheCurrentRelativePose) {
   ExpectNoWarnings(data.mj.get());
 }
 
+// `pose` with the palm centre of `side` at p (arm IK; a few corrections for the wrist-palm
+// offset; the spine leans for far targets).
+human::SkeletonPose palm_at(const model::Model& model, human::SkeletonPose pose, human::Side side,
+                            const Vec3& p, bool lean = true) {
+  if (lean) {
+    const double angle = human::lean_for_reach(model.skeleton, pose, side, p, 0.85, 0.8, Vec3::UnitX());
+    human::lean_spine(model.skeleton, pose, Vec3::UnitX(), angle);
+  }
+  Vec3 wrist_target = p;
+  for (int k = 0; k < 4; ++k) {
+    human::ArmTarget target;
+    target.wrist = wrist_target;
+    human::solve_arm(model.skeleton, pose, side, target);
+    const auto X = human::forward_kinematics(model.skeleton, pose);
+    const Vec3 palm = human::palm_centre(model.skeleton, X[static_cast<size_t>(human::index(human::wrist(side)))]);
+    wrist_target += p - palm;
+  }
+  return pose;
+}
+
+TEST_F(HoldTest, TwoHandsLiftAPlankEndByPointHoldsWhileTheOtherEndRests) {
+  model::SceneSpec spec;
+  model::PlatformSpec support;
+  support.name = "support";
+  support.x = 0.62;
+  support.y = 0.0;
+  support.length = 0.5;
+  support.width = 0.12;
+  support.height = 0.08;
+  spec.platforms = {support};
+  model::ObjectSpec plank;
+  plank.kind = "plank";
+  plank.name = "plank";
+  plank.x = 0.62;
+  plank.on = "support";
+  spec.objects.push_back(plank);
+  spec.human.x = 1.2;
+  const model::Model model = model::build(spec);
+  Data data = make_data(model);
+  // Both palms just above the person's end (x 0.90, top at z 0.87), 10 cm apart.
+  const auto hands_at = [&](double z) {
+    human::SkeletonPose pose = palm_at(model, model.human_start, human::Side::kLeft, Vec3(0.90, -0.05, z));
+    return palm_at(model, pose, human::Side::kRight, Vec3(0.90, 0.05, z), false);
+  };
+  const human::SkeletonPose grip = hands_at(0.88);
+  for (int i = 1; i <= 500; ++i) {
+    set_human_pose(model, data, blend(model.human_start, grip, i / 500.0));
+    step(model, data);
+  }
+  grasp_point_by_human(model, data, human::Side::kLeft, 0);
+  grasp_point_by_human(model, data, human::Side::kRight, 0);
+  EXPECT_EQ(held_object(data, human::Side::kLeft), 0);
+  EXPECT_EQ(held_object(data, human::Side::kRight), 0);
+  // Lift the hands 15 cm in 1.5 s and hold 0.5 s.
+  for (int i = 1; i <= 750; ++i) {
+    set_human_pose(model, data, hands_at(0.88 + 0.15 * i / 750.0));
+    step(model, data);
+  }
+  for (int i = 0; i < 250; ++i) step(model, data);
+  const Pose X = object_pose(model, data, 0);
+  const Vec3 along = X.rotation * Vec3::UnitX();
+  const Vec3 person_end = X.translation + Vec3(0, 0, 0.02) + 0.28 * along;
+  const Vec3 robot_end = X.translation + Vec3(0, 0, 0.02) - 0.28 * along;
+  EXPECT_NEAR(person_end.z(), 0.85 + 0.15, 0.03);
+  EXPECT_NEAR(robot_end.z(), 0.85, 0.03);                   // pivots on the support
+  EXPECT_LT(std::abs((X.rotation * Vec3::UnitY()).z()), 0.05);  // two grips: no roll
+  // Released, it falls back onto the support.
+  release_by_human(model, data, human::Side::kLeft);
+  release_by_human(model, data, human::Side::kRight);
+  for (int i = 0; i < 1000; ++i) step(model, data);
+  EXPECT_NEAR(object_pose(model, data, 0).translation.z(), 0.83, 0.01);
+  ExpectNoWarnings(data.mj.get());
+}
+
 TEST_F(HoldTest, AHandLiftsABoxLidAndLetsItClose) {
   model::SceneSpec spec;
   model::ObjectSpec box;
@@ -135,23 +209,7 @@ TEST_F(HoldTest, AHandLiftsABoxLidAndLetsItClose) {
   const double hx = info.half_extents.x();
   const Vec3 hinge = info.X_W_start.translation + Vec3(hx, 0, 0.12 + 0.008);
   const auto edge = [&](double a) -> Vec3 { return hinge + Vec3(-2 * hx * std::cos(a), 0, 2 * hx * std::sin(a)); };
-  // Puts the right palm centre at p (arm IK; a few corrections for the wrist-palm offset).
-  const auto hand_at = [&](const Vec3& p) {
-    human::SkeletonPose pose = model.human_start;
-    const double lean = human::lean_for_reach(model.skeleton, pose, human::Side::kRight, p, 0.85, 0.8,
-                                              Vec3::UnitX());
-    human::lean_spine(model.skeleton, pose, Vec3::UnitX(), lean);
-    Vec3 wrist_target = p;
-    for (int k = 0; k < 4; ++k) {
-      human::ArmTarget target;
-      target.wrist = wrist_target;
-      human::solve_arm(model.skeleton, pose, human::Side::kRight, target);
-      const auto X = human::forward_kinematics(model.skeleton, pose);
-      const Vec3 palm = human::palm_centre(model.skeleton, X[static_cast<size_t>(human::index(human::Joint::kRightWrist))]);
-      wrist_target += p - palm;
-    }
-    return pose;
-  };
+  const auto hand_at = [&](const Vec3& p) { return palm_at(model, model.human_start, human::Side::kRight, p); };
   // Reach to the closed lid's edge, take it, lift it along its arc to 80 degrees.
   const human::SkeletonPose from = model.human_start;
   const human::SkeletonPose grasp = hand_at(edge(0.02));
