@@ -11,6 +11,7 @@
 
 #include "core/errors.h"
 #include "policy/builtin.h"
+#include "policy/oracle.h"
 
 namespace hribench::policy {
 namespace {
@@ -40,6 +41,20 @@ std::map<std::string, PolicyEntry> make_builtins() {
         return std::unique_ptr<Policy>(new RandomPolicy(space, seed, scale, ActionLimits{},
                                                         static_cast<int>(chunk)));
       }};
+  // The privileged expert and its scripted baselines (policy/oracle.h).
+  const auto expert = [&entries](Competence competence, const char* help) {
+    const std::string name(to_string(competence));
+    entries[name] = PolicyEntry{name, help, [competence](PolicyRef ref) {
+                                  reject_unknown_options(ref);
+                                  return make_expert(competence);
+                                }};
+  };
+  expert(Competence::kOracle,
+         "privileged expert: waits for cues, keeps the separation, re-plans, obeys contradictions");
+  expert(Competence::kReactive,
+         "the oracle without safety and recovery: no separation monitoring, no re-plan, "
+         "ignores contradictions, never stands down");
+  expert(Competence::kBlind, "reactive that also ignores cues and timing: starts at t = 0");
   return entries;
 }
 

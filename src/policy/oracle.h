@@ -1,0 +1,116 @@
+#pragma once
+// The privileged expert (issue 6): `oracle`, and the scripted baselines `reactive` and `blind`
+// with the same manipulation skill and less interaction competence (policy/oracle_plan.h).
+//
+// It reads the sampled episode (EpisodeInfo::episode), the events so far, the human joints and
+// the object poses (state and privileged tracks) and drives the TCP with ee_delta actions
+// along straight Cartesian segments with a trapezoidal speed profile (at most kMaxSpeed,
+// accelerations kAcceleration), top-down grasps by finger contact (open, descend, close, check
+// that something is between the fingers, lift), releases by opening. No teleporting, no weld.
+//
+// Interaction layer by competence:
+//   all      — runs the plan's steps in order; a step waits for its `after` event (as the plan
+//              says for the competence);
+//   oracle,
+//   reactive — a "stop" cue halts the robot (held pose) until the next "go" cue;
+//   oracle   — speed-and-separation monitoring against the human arms (slow below
+//              kSlowDistance, stop below kStopDistance, back off below kRetreatDistance,
+//              resume when clear), except in handover steps; re-plans grasps and placements
+//              from the live object poses (the baselines keep the pose seen when the step
+//              began); pauses a contradicted step when the contradicting act starts.
+// Deterministic: actions are a function of the episode and the observations.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "policy/oracle_plan.h"
+#include "policy/policy.h"
+
+namespace hribench::policy {
+
+// Motion constants (m, m/s, m/s^2, rad per step).
+inline constexpr double kMaxSpeed = 0.30;        // TCP transit speed
+inline constexpr double kFineSpeed = 0.10;       // descending, lowering, handing over
+inline constexpr double kAcceleration = 1.5;
+inline constexpr double kMaxTurnPerStep = 0.10;  // TCP rotation per control step
+inline constexpr double kApproachHeight = 0.10;  // pre-grasp height above the grasp point
+inline constexpr double kCarryClearance = 0.08;  // object bottom above the highest obstacle top
+// Separation (distances between robot points and human arm segments, m).
+inline constexpr double kSlowDistance = 0.60;
+inline constexpr double kStopDistance = 0.42;
+inline constexpr double kRetreatDistance = 0.34;
+inline constexpr double kResumeDistance = 0.48;
+
+class ExpertPolicy : public Policy {
+ public:
+  explicit ExpertPolicy(Competence competence);
+  PolicySpec spec() const override;
+  // Throws PolicyError(kFailed) without the privileged episode or for a goal it cannot plan.
+  void reset(const EpisodeInfo& info) override;
+  ActionChunk act(const Observation& observation) override;
+
+  // The plan of the current episode (after reset).
+  const std::vector<PlanStep>& plan() const { return plan_; }
+  // Index of the step being executed at the last act(), plan().size() when all are done.
+  size_t current_step() const { return current_; }
+
+ private:
+  struct ObjectGeometry {
+    std::string name;
+    std::string kind;
+    core::Vec3 half_extents = core::Vec3::Zero();
+  };
+  struct World;  // the observation, indexed (oracle.cc)
+
+  const ObjectGeometry* geometry(const std::string& name) const;
+  void update_events(const Observation& observation);
+  bool seen(const std::string& event) const;
+  bool step_done(size_t i) const;
+  bool step_dropped(size_t i) const;
+  void begin_step(size_t i, const World& world);
+  // The manipulation skill of the current step: sets target_ (TCP pose), speed_ and gripper_.
+  void run_step(const World& world);
+  void run_pick(const World& world, const std::string& object, bool close);
+  void run_place(const World& world, const PlanStep& step);
+  void run_home(const World& world);
+  void run_handover(const World& world, const PlanStep& step);
+  void set_phase(int phase, double time);
+  double separation_scale(const World& world, core::Vec3& retreat) const;
+  Action motion_action(const World& world, double scale, const core::Vec3& retreat);
+
+  Competence competence_;
+  std::shared_ptr<const script::EpisodeSpec> episode_;
+  std::vector<PlanStep> plan_;
+  std::vector<ObjectGeometry> objects_;
+  std::vector<std::string> events_;      // names of events seen (kinds act_*, phase, cue)
+  std::vector<char> internal_done_;      // per step: its skill sequence finished
+  size_t events_read_ = 0;
+  bool stopped_ = false;                 // a stop cue holds the robot
+  bool ssm_stopped_ = false;
+  bool holding_ = false;                 // held (stop, waiting) at the last act()
+  bool started_ = false;
+  core::Pose home_;
+  std::vector<core::Vec3> start_positions_;  // per object (objects_ order): body origin at start
+  // Skill state.
+  size_t current_ = 0;
+  int phase_ = 0;
+  double phase_start_ = 0;
+  core::Vec3 latched_ = core::Vec3::Zero();  // the object pose seen when the step began
+  bool latched_valid_ = false;
+  core::Vec3 latched_target_ = core::Vec3::Zero();  // the target object's pose then
+  bool latched_target_valid_ = false;
+  double control_dt_ = 0.05;
+  core::Pose target_;
+  double speed_ = kMaxSpeed;
+  double gripper_ = 1.0;
+  core::Vec3 reference_ = core::Vec3::Zero();  // the commanded TCP position of the profile
+  core::Vec3 velocity_ = core::Vec3::Zero();
+  int retries_ = 0;
+};
+
+// "oracle" | "reactive" | "blind".
+std::unique_ptr<Policy> make_expert(Competence competence);
+
+}  // namespace hribench::policy
