@@ -1,24 +1,58 @@
 // `hribench render --out scene.png [--camera NAME --width W --height H --backend B]`: a still
 // of the default scene (robot at home, objects on the table, the human standing across it), so
 // a person can look at it.
+//
+// With `--task FILE [--seed N] [--at TIME|EVENT[+S]] [--policy REF]`: a still of a moment of a
+// task episode. The episode is sampled (script::sample), its scene built
+// (eval::scene_spec_from_episode), and run with eval::run_episode + eval::ScriptDriver and the
+// policy up to the first control step at or after the moment, whose state is rendered.
+//
+// `--camera free` is a documentation view: a free camera looking at the shared workspace a
+// little from the person's right and the robot's front, so the robot, the table and the
+// person's gestures are all visible; --azimuth/--elevation/--distance move it.
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cctype>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "cli/command.h"
 #include "core/errors.h"
+#include "eval/episode_log.h"
+#include "eval/runner.h"
+#include "eval/script_driver.h"
 #include "model/model.h"
+#include "policy/registry.h"
 #include "render/png.h"
 #include "render/renderer.h"
+#include "script/check.h"
+#include "script/sample.h"
 #include "sim/data.h"
 
 namespace hribench::cli {
 namespace {
+
+// The free camera: looks at the middle of the shared workspace, slightly above the table.
+struct FreeView {
+  double azimuth = -75;    // deg; MuJoCo convention (0: looking along +x, 90: along +y)
+  double elevation = -18;  // deg; negative looks down
+  double distance = 2.7;   // m from the look-at point
+};
+constexpr double kFreeLookat[3] = {0.6, 0.0, 1.1};  // world, m
 
 struct RenderOptions {
   std::string out;
@@ -26,6 +60,13 @@ struct RenderOptions {
   int width = 640;
   int height = 480;
   std::string backend = "osmesa";
+  bool pretty = false;  // shadows and MuJoCo's default render settings (4x MSAA)
+  FreeView view;
+  // A task moment (empty task: the default scene).
+  std::string task;
+  uint64_t seed = 0;
+  std::string at = "0";
+  std::string policy = "noop";
 };
 
 // Fails early (before any simulation or GL work) when `path` cannot be written.
@@ -42,42 +83,289 @@ void check_writable(const std::string& path) {
   }
 }
 
-int run_render(const RenderOptions& o) {
+// A finite number >= 0 written in full (no trailing text), or nothing.
+std::optional<double> parse_seconds(std::string_view text) {
+  double value = 0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (text.empty() || ec != std::errc() || ptr != end || !std::isfinite(value) || value < 0) {
+    return std::nullopt;
+  }
+  return value;
+}
+
+// What --at asks for: a time, or the first event named `event` (or the first cue for "cue")
+// plus `offset` seconds.
+struct Moment {
+  std::optional<double> time;  // s
+  std::string event;
+  double offset = 0;  // s, >= 0
+};
+
+constexpr const char* kAtExpected = "a time in seconds or an event of the episode, optionally +S";
+
+Moment parse_moment(const std::string& text) {
+  Moment moment;
+  // Event names start with a letter; anything else must be a time.
+  const bool letter = !text.empty() && std::isalpha(static_cast<unsigned char>(text[0])) != 0;
+  if (!letter) {
+    moment.time = parse_seconds(text);
+    if (!moment.time) throw core::InputError("--at", kAtExpected, "'" + text + "'");
+    return moment;
+  }
+  moment.event = text;
+  const size_t plus = text.rfind('+');
+  if (plus != std::string::npos) {
+    const std::optional<double> offset = parse_seconds(std::string_view(text).substr(plus + 1));
+    if (!offset) throw core::InputError("--at", kAtExpected, "'" + text + "'");
+    moment.event = text.substr(0, plus);
+    moment.offset = *offset;
+  }
+  if (moment.event.empty() || moment.event.find_first_of(" \t") != std::string::npos) {
+    throw core::InputError("--at", kAtExpected, "'" + text + "'");
+  }
+  return moment;
+}
+
+// The names of the episode's act, phase and cue events, in order of first occurrence, for the
+// "unknown event" message.
+std::string event_names(const eval::EpisodeLog& log) {
+  std::vector<std::string> names;
+  for (const eval::Event& e : log.events) {
+    const bool listed = e.kind == eval::EventKind::kActStart || e.kind == eval::EventKind::kActEnd ||
+                        e.kind == eval::EventKind::kPhase || e.kind == eval::EventKind::kCue;
+    if (listed && std::find(names.begin(), names.end(), e.name) == names.end()) {
+      names.push_back(e.name);
+    }
+  }
+  if (names.empty()) return "none";
+  return fmt::format("{}", fmt::join(names, ", "));
+}
+
+// A sampled task episode ready to run: its model and simulation state.
+struct TaskEpisode {
+  script::EpisodeSpec spec;
+  std::string task_id;  // file stem, e.g. "I1_point_pick"
+  model::Model model;
+  sim::Data data;
+};
+
+struct RenderedMoment {
+  double time = 0;   // s, the state rendered
+  std::string what;  // how the moment was chosen, for the summary line
+};
+
+// Thrown out of run_episode (through the driver's observe) once the moment is reached, so the
+// simulation state is that of the moment.
+struct MomentReached {};
+
+// The episode's ScriptDriver, watching for the moment: after each control step's observation
+// (state current), ends the run by throwing MomentReached once the step's time is at or past
+// the moment (an event's time is known once the event has been observed).
+class MomentWatch : public eval::ScenarioDriver {
+ public:
+  MomentWatch(eval::ScriptDriver& script, const Moment& moment) : script_(script), moment_(moment) {
+    if (moment.time) stop_at_ = moment.time;
+  }
+  std::vector<std::string> predicate_names() const override { return script_.predicate_names(); }
+  void reset(const model::Model& model, sim::Data& data) override { script_.reset(model, data); }
+  void drive(const model::Model& model, sim::Data& data) override { script_.drive(model, data); }
+  void observe(const model::Model& model, const sim::Data& data, std::vector<uint8_t>& predicates,
+               std::vector<eval::Event>& events) override {
+    const size_t seen = events.size();
+    script_.observe(model, data, predicates, events);
+    for (size_t i = seen; i < events.size() && !stop_at_; ++i) {
+      const eval::Event& e = events[i];
+      if (moment_.event == "cue" ? e.kind == eval::EventKind::kCue : e.name == moment_.event) {
+        stop_at_ = e.time + moment_.offset;
+        what_ = fmt::format("{} at {:.2f} s{}", e.name, e.time,
+                            moment_.offset > 0 ? fmt::format(" + {} s", moment_.offset) : "");
+      }
+    }
+    if (stop_at_ && data.time() >= *stop_at_ - 1e-9) throw MomentReached{};
+  }
+  std::shared_ptr<const script::EpisodeSpec> episode() const override { return script_.episode(); }
+
+  const std::string& what() const { return what_; }
+
+ private:
+  eval::ScriptDriver& script_;
+  Moment moment_;
+  std::optional<double> stop_at_;  // s
+  std::string what_;               // the event found
+};
+
+// Runs the episode from reset up to the moment --at names and leaves that state in
+// episode.data. Throws core::InputError when the episode ends before it.
+RenderedMoment run_to_moment(TaskEpisode& episode, const RenderOptions& o) {
+  const Moment moment = parse_moment(o.at);
+  if (moment.time && *moment.time > episode.spec.horizon) {
+    throw core::InputError(
+        "--at", fmt::format("a time within the episode's horizon [0, {}] s", episode.spec.horizon),
+        o.at);
+  }
+  eval::ScriptDriver script(episode.spec);
+  MomentWatch watch(script, moment);
+  std::unique_ptr<policy::Policy> policy = policy::make_policy(o.policy);
+  eval::RunOptions options;
+  options.stop_on_success = false;  // a moment after success is still a moment
+  options.horizon = episode.spec.horizon;
+  const eval::EpisodeSetup setup{episode.spec.task,        episode.spec.role,
+                                 script::spec_hash(episode.spec), episode.spec.seed,
+                                 episode.spec.instruction, o.policy};
+  eval::EpisodeLog log;
+  try {
+    log = eval::run_episode(episode.model, episode.data, *policy, watch, setup, options);
+  } catch (const MomentReached&) {
+    const double t = episode.data.time();
+    return {t, moment.time ? fmt::format("t = {} s", o.at) : watch.what()};
+  }
+  // The run ended without reaching the moment.
+  const double end = log.steps.empty() ? 0.0 : log.steps.back().time;
+  if (log.status != core::EpisodeStatus::kOk) {
+    throw core::InputError::Message(
+        "--at", fmt::format("the episode ended ({}: {}) at {:.2f} s, before '{}'",
+                            core::to_string(log.status), log.status_reason, end, o.at));
+  }
+  if (!watch.what().empty()) {  // the event plus the offset lies past the horizon
+    throw core::InputError::Message(
+        "--at", fmt::format("{}: past the episode's horizon ({} s)", watch.what(), end));
+  }
+  throw core::InputError("--at",
+                         "an event of " + episode.task_id + " seed " + std::to_string(o.seed) +
+                             " with " + o.policy + " (" + event_names(log) + ")",
+                         "'" + moment.event + "'");
+}
+
+// The camera to render through: a named model camera, or the free documentation view.
+mjvCamera make_camera(const mjModel& m, const RenderOptions& o) {
+  mjvCamera camera;
+  mjv_defaultCamera(&camera);
+  if (o.camera == "free") {
+    camera.type = mjCAMERA_FREE;
+    for (int i = 0; i < 3; ++i) camera.lookat[i] = kFreeLookat[i];
+    camera.azimuth = o.view.azimuth;
+    camera.elevation = o.view.elevation;
+    camera.distance = o.view.distance;
+    return camera;
+  }
+  camera.type = mjCAMERA_FIXED;
+  camera.fixedcamid = render::camera_id(m, o.camera, "--camera");
+  return camera;
+}
+
+void check_view(const RenderOptions& o, bool view_given) {
+  if (view_given && o.camera != "free") {
+    throw core::InputError::Message("--camera",
+                                    "--azimuth, --elevation and --distance need --camera free");
+  }
+  if (!std::isfinite(o.view.azimuth)) {
+    throw core::InputError("--azimuth", "a finite angle in degrees", fmt::format("{}", o.view.azimuth));
+  }
+  if (!(o.view.elevation >= -90 && o.view.elevation <= 90)) {
+    throw core::InputError("--elevation", "an angle in [-90, 90] degrees",
+                           fmt::format("{}", o.view.elevation));
+  }
+  if (!(o.view.distance > 0 && o.view.distance <= 20)) {
+    throw core::InputError("--distance", "a distance in (0, 20] m",
+                           fmt::format("{}", o.view.distance));
+  }
+}
+
+int run_render(const RenderOptions& o, bool view_given, bool task_options_given) {
   // Validate everything the user typed before building anything.
   const render::Backend backend = render::parse_backend(o.backend);
   if (backend == render::Backend::kNone) {
     throw core::InputError("--backend", "osmesa or egl (render writes an image)", "'none'");
   }
   render::check_image_size(o.width, o.height, "--width", "--height");
+  check_view(o, view_given);
+  if (o.task.empty() && task_options_given) {
+    throw core::InputError::Message("--task", "--seed, --at and --policy need --task FILE");
+  }
+  if (!o.task.empty()) {
+    parse_moment(o.at);
+    policy::make_policy(o.policy);
+  }
   check_writable(o.out);
 
-  const model::Model model = model::build(model::SceneSpec::Default());
-  const int camera = render::camera_id(*model.m(), o.camera, "--camera");
-  sim::Data data = sim::make_data(model);
+  std::optional<TaskEpisode> episode;
+  std::string summary;
+  if (o.task.empty()) {
+    model::SceneSpec scene = model::SceneSpec::Default();
+    scene.shadows = o.pretty;
+    episode.emplace(TaskEpisode{{}, "", model::build(scene), {}});
+    episode->data = sim::make_data(episode->model);
+  } else {
+    if (!std::filesystem::is_regular_file(o.task)) {
+      throw core::InputError("--task", "a scenario script file", "'" + o.task + "'");
+    }
+    script::EpisodeSpec spec = script::sample(script::load_scenario(o.task), o.seed);
+    model::SceneSpec scene = eval::scene_spec_from_episode(spec);
+    scene.shadows = o.pretty;  // lights only: the physics is the same
+    model::Model model = model::build(scene);
+    episode.emplace(TaskEpisode{std::move(spec), std::filesystem::path(o.task).stem().string(),
+                                std::move(model), {}});
+    episode->data = sim::make_data(episode->model);
+  }
+  const mjModel& m = *episode->model.m();
+  const mjvCamera camera = make_camera(m, o);
+  if (!o.task.empty()) {
+    const RenderedMoment moment = run_to_moment(*episode, o);
+    summary = fmt::format("; {} seed {}{}, {}, {} -> t = {:.2f} s", episode->task_id, o.seed,
+                          episode->spec.variant.empty() ? "" : " (" + episode->spec.variant + ")",
+                          o.policy, moment.what, moment.time);
+  }
 
-  auto renderer = render::make_renderer(backend, *model.m(), o.width, o.height);
+  auto renderer = render::make_renderer(
+      backend, m, o.width, o.height,
+      o.pretty ? render::RenderSettings::mujoco_defaults() : render::RenderSettings{});
   render::Image image;
-  renderer->render(*model.m(), *data.mj, camera, image);
+  renderer->render(m, *episode->data.mj, camera, image);
   render::write_png(o.out, image);
-  std::printf("wrote %s (%dx%d, camera %s, %s: %s)\n", o.out.c_str(), o.width, o.height,
+  std::printf("wrote %s (%dx%d, camera %s, %s: %s)%s\n", o.out.c_str(), o.width, o.height,
               o.camera.c_str(), std::string(render::to_string(backend)).c_str(),
-              renderer->gl_renderer().c_str());
+              renderer->gl_renderer().c_str(), summary.c_str());
   return 0;
 }
 
 HRIB_REGISTER_COMMAND(
-    "render", "Render a still of the default scene to a PNG file",
+    "render", "Render a still of the default scene, or of a moment of a task episode, to a PNG",
     [](CLI::App& app) -> std::function<int()> {
       auto options = std::make_shared<RenderOptions>();
       app.add_option("--out", options->out, "PNG file to write")->required();
-      app.add_option("--camera", options->camera, "camera name (agentview, wrist)")
+      app.add_option("--camera", options->camera,
+                     "camera name (agentview, wrist) or free (the documentation view)")
           ->capture_default_str();
       app.add_option("--width", options->width, "image width in pixels")->capture_default_str();
       app.add_option("--height", options->height, "image height in pixels")
           ->capture_default_str();
       app.add_option("--backend", options->backend, "osmesa (CPU) or egl (GPU)")
           ->capture_default_str();
-      return [options] { return run_render(*options); };
+      app.add_flag("--pretty", options->pretty,
+                   "shadows and anti-aliasing (MuJoCo's render defaults), for documentation");
+      auto* azimuth = app.add_option("--azimuth", options->view.azimuth,
+                                     "free camera: azimuth, deg")
+                          ->capture_default_str();
+      auto* elevation = app.add_option("--elevation", options->view.elevation,
+                                       "free camera: elevation, deg (negative looks down)")
+                            ->capture_default_str();
+      auto* distance = app.add_option("--distance", options->view.distance,
+                                      "free camera: distance to the look-at point, m")
+                           ->capture_default_str();
+      app.add_option("--task", options->task, "scenario script: render a moment of its episode");
+      auto* seed = app.add_option("--seed", options->seed, "episode seed")->capture_default_str();
+      auto* at = app.add_option("--at", options->at,
+                                "moment: seconds, or an event of the episode (e.g. point.stroke, "
+                                "cue = the first cue), optionally +S seconds after it")
+                     ->capture_default_str();
+      auto* policy = app.add_option("--policy", options->policy, "policy reference")
+                         ->capture_default_str();
+      return [options, azimuth, elevation, distance, seed, at, policy] {
+        const bool view_given = azimuth->count() + elevation->count() + distance->count() > 0;
+        const bool task_options_given = seed->count() + at->count() + policy->count() > 0;
+        return run_render(*options, view_given, task_options_given);
+      };
     });
 
 }  // namespace

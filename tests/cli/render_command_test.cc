@@ -1,6 +1,8 @@
 // Tests of `hribench render`: a small still is written and readable; every kind of bad input
 // (unknown flag, impossible size, unknown camera, unwritable path, unknown or none back end,
-// no usable GL context) is one clear line and exit code 2.
+// no usable GL context) is one clear line and exit code 2. Task moments (--task/--at): a still
+// of an event moment is written, is not blank and differs from the episode's start; bad --at,
+// unknown events, bad task files and misplaced options are one line and exit code 2.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -8,6 +10,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <set>
 #include <string>
 
 #include "render/png.h"
@@ -120,6 +124,130 @@ TEST(RenderCommandTest, EglRendersOrSaysWhyNot) {
     EXPECT_EQ(r.output.rfind("hribench: error: egl: no usable GL context: ", 0), 0u) << r.output;
   }
   std::remove(out.c_str());
+}
+
+// Distinct pixel colours of an image (a blank or one-colour image has 1).
+size_t distinct_colours(const render::Image& image) {
+  std::set<uint32_t> colours;
+  for (size_t i = 0; i + 2 < image.rgb.size(); i += 3) {
+    colours.insert(static_cast<uint32_t>(image.rgb[i]) << 16 |
+                   static_cast<uint32_t>(image.rgb[i + 1]) << 8 | image.rgb[i + 2]);
+  }
+  return colours.size();
+}
+
+constexpr const char* kPointPick = "tasks/I1_point_pick.yaml";
+
+TEST(RenderCommandTest, TaskEventMomentIsRenderedAndDiffersFromTheStart) {
+  const std::string start = temp_png("hribench_render_task_start.png");
+  const std::string stroke = temp_png("hribench_render_task_stroke.png");
+  const std::string common = std::string(" --task ") + kPointPick +
+                             " --seed 3 --camera free --width 96 --height 72";
+  const auto r0 = run_hribench("render --out " + start + common + " --at 0");
+  ASSERT_EQ(r0.exit_code, 0) << r0.output;
+  EXPECT_NE(r0.output.find("; I1_point_pick seed 3, noop, t = 0 s -> t = 0.00 s"),
+            std::string::npos)
+      << r0.output;
+  const auto r1 = run_hribench("render --out " + stroke + common + " --at point.hold+0.2");
+  ASSERT_EQ(r1.exit_code, 0) << r1.output;
+  EXPECT_EQ(count_lines(r1.output), 1) << r1.output;
+  EXPECT_NE(r1.output.find("wrote " + stroke + " (96x72, camera free, osmesa: "),
+            std::string::npos)
+      << r1.output;
+  EXPECT_NE(r1.output.find("noop, point.hold at "), std::string::npos) << r1.output;
+
+  const render::Image a = render::read_png(start);
+  const render::Image b = render::read_png(stroke);
+  ASSERT_EQ(b.width, 96);
+  ASSERT_EQ(b.height, 72);
+  // Not blank: the table, robot, objects and person give many colours.
+  EXPECT_GT(distinct_colours(b), 50u);
+  // The person has moved (the pointing arm is up): many pixels changed since the start.
+  size_t changed = 0;
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  for (size_t i = 0; i < a.rgb.size(); ++i) changed += a.rgb[i] != b.rgb[i] ? 1 : 0;
+  EXPECT_GT(changed, 30u);
+  std::remove(start.c_str());
+  std::remove(stroke.c_str());
+}
+
+TEST(RenderCommandTest, TaskMomentIsDeterministic) {
+  const std::string a = temp_png("hribench_render_task_det_a.png");
+  const std::string b = temp_png("hribench_render_task_det_b.png");
+  const std::string args = std::string(" --task ") + kPointPick +
+                           " --seed 2 --policy random?seed=4 --width 48 --height 36 --at 1.5";
+  ASSERT_EQ(run_hribench("render --out " + a + args).exit_code, 0);
+  const auto r = run_hribench("render --out " + b + args);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("random?seed=4, t = 1.5 s -> t = 1.50 s"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(render::read_png(a).rgb, render::read_png(b).rgb);
+  std::remove(a.c_str());
+  std::remove(b.c_str());
+}
+
+TEST(RenderCommandTest, BadMomentsAreOneLine) {
+  const std::string out = temp_png("hribench_render_task_bad_at.png");
+  const std::string task = std::string(" --task ") + kPointPick + " --width 8 --height 8";
+  const std::string expected = "a time in seconds or an event of the episode, optionally +S";
+  expect_one_line_error("render --out " + out + task + " --at -1",
+                        "--at: expected " + expected + ", got '-1'");
+  expect_one_line_error("render --out " + out + task + " --at 2s",
+                        "--at: expected " + expected + ", got '2s'");
+  expect_one_line_error("render --out " + out + task + " --at point.stroke+x",
+                        "--at: expected " + expected + ", got 'point.stroke+x'");
+  expect_one_line_error("render --out " + out + task + " --at 31",
+                        "--at: expected a time within the episode's horizon [0, 30] s, got 31");
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(RenderCommandTest, UnknownEventNamesTheEpisodesEvents) {
+  const std::string out = temp_png("hribench_render_task_event.png");
+  const auto r = run_hribench("render --out " + out + " --task " + kPointPick +
+                              " --seed 0 --width 8 --height 8 --at point.nosuch");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_EQ(r.output.rfind("hribench: error: --at: expected an event of I1_point_pick seed 0 "
+                           "with noop (",
+                           0),
+            0u)
+      << r.output;
+  EXPECT_NE(r.output.find("point.stroke"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("), got 'point.nosuch'\n"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(RenderCommandTest, BadTaskFilesAreOneLine) {
+  const std::string out = temp_png("hribench_render_task_file.png");
+  expect_one_line_error("render --out " + out + " --task no/such/task.yaml --at cue",
+                        "--task: expected a scenario script file, got 'no/such/task.yaml'");
+  // A script with a schema problem: its first problem, with file and line.
+  const std::string bad = temp_png("hribench_render_bad_task.yaml");
+  std::ofstream(bad) << "hribench: 1\ntask: broken\n";
+  const auto r = run_hribench("render --out " + out + " --task " + bad + " --at cue");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_EQ(r.output.rfind("hribench: error: " + bad + ":", 0), 0u) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  std::remove(bad.c_str());
+}
+
+TEST(RenderCommandTest, MisplacedTaskAndViewOptionsAreOneLine) {
+  const std::string out = temp_png("hribench_render_task_misplaced.png");
+  expect_one_line_error("render --out " + out + " --at cue",
+                        "--task: --seed, --at and --policy need --task FILE");
+  expect_one_line_error("render --out " + out + " --azimuth 30",
+                        "--camera: --azimuth, --elevation and --distance need --camera free");
+  expect_one_line_error("render --out " + out + " --camera free --elevation 95",
+                        "--elevation: expected an angle in [-90, 90] degrees, got 95");
+  expect_one_line_error("render --out " + out + " --camera free --distance 0",
+                        "--distance: expected a distance in (0, 20] m, got 0");
+  const auto r = run_hribench("render --out " + out + " --task " + std::string(kPointPick) +
+                              " --policy nosuch");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("nosuch"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 }  // namespace
