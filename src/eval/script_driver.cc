@@ -49,6 +49,36 @@ core::Pose object_centre_pose(const model::Model& model, const sim::Data& data, 
 }
 
 const human::Joint kWrist[2] = {human::Joint::kLeftWrist, human::Joint::kRightWrist};
+// The joints of each arm (left, right), collar to wrist.
+const std::array<human::Joint, 4> kArm[2] = {
+    {human::Joint::kLeftCollar, human::Joint::kLeftShoulder, human::Joint::kLeftElbow, human::Joint::kLeftWrist},
+    {human::Joint::kRightCollar, human::Joint::kRightShoulder, human::Joint::kRightElbow, human::Joint::kRightWrist}};
+
+// A hand takes an object the way its kind is held: a box by its lid (hold_lid), a plank by
+// the point under the palm (both hands at one end), anything else whole.
+void grasp(const model::Model& model, sim::Data& data, human::Side side, int object) {
+  const model::ObjectKind kind = model.objects[static_cast<size_t>(object)].kind;
+  if (kind == model::ObjectKind::kBox) {
+    sim::grasp_lid_by_human(model, data, side, object);
+  } else if (kind == model::ObjectKind::kPlank) {
+    sim::grasp_point_by_human(model, data, side, object);
+  } else {
+    sim::grasp_by_human(model, data, side, object);
+  }
+}
+
+// Whether a plan moves hand h: a palm target or grip that changes, a via-point, or walking.
+bool moves_hand(const human::MotionPlan& plan, size_t h) {
+  const human::HandKey start = plan.key_at(0).hands[h];
+  for (const human::Segment& segment : plan.segments()) {
+    const human::HandKey& end = segment.end.hands[h];
+    if (segment.walking || !segment.via[h].empty() || (end.palm - start.palm).norm() > 1e-3 ||
+        end.grip != start.grip || end.holding != start.holding) {
+      return true;
+    }
+  }
+  return false;
+}
 const human::Side kSides[2] = {human::Side::kLeft, human::Side::kRight};
 
 }  // namespace
@@ -56,12 +86,31 @@ const human::Side kSides[2] = {human::Side::kLeft, human::Side::kRight};
 model::SceneSpec scene_spec_from_episode(const script::EpisodeSpec& spec) {
   model::SceneSpec scene;
   scene.objects.clear();
+  // Platforms first (objects may rest on them).
+  for (const script::Entry<script::SceneObject>& entry : spec.scene.objects) {
+    const script::SceneObject& o = entry.value;
+    if (o.kind.value() != "platform") continue;
+    const std::string where = object_where(entry.name);
+    if (o.size.size() != 3 || !o.pose || o.pose->xy.size() != 2) {
+      throw core::InputError::Message(where, "a platform needs a size [x, y, z] and a pose xy");
+    }
+    model::PlatformSpec platform;
+    platform.name = entry.name;
+    platform.x = o.pose->xy[0].value();
+    platform.y = o.pose->xy[1].value();
+    platform.yaw = o.pose->yaw_deg.value() * kDegToRad;
+    platform.length = o.size[0].value();
+    platform.width = o.size[1].value();
+    platform.height = o.size[2].value();
+    scene.platforms.push_back(platform);
+  }
   for (const script::Entry<script::SceneObject>& entry : spec.scene.objects) {
     const script::SceneObject& o = entry.value;
     const std::string where = object_where(entry.name);
     const std::string& kind = o.kind.value();
+    if (kind == "platform") continue;
     if (!model::object_kind_from_name(kind)) {
-      throw core::InputError(where, "an object kind the model builds (cube, cup, bottle, plate, bin, tray, box, plank)", kind);
+      throw core::InputError(where, "an object kind the model builds (cube, cup, bottle, plate, bin, tray, box, plank, platform)", kind);
     }
     if (!o.size.empty()) {
       throw core::InputError::Message(where, "an explicit size is not supported by the model (only the kind's size)");
@@ -84,6 +133,21 @@ model::SceneSpec scene_spec_from_episode(const script::EpisodeSpec& spec) {
       if (!xy) throw core::InputError::Message(where, "needs a pose, a container (in) or a hand (held_by)");
       object.x = xy->first;
       object.y = xy->second;
+      if (o.in && !(o.pose && o.pose->xy.size() == 2)) object.inside = o.in->value();
+      // A centre height above the table: resting on the platform under it.
+      if (o.pose && o.pose->z) {
+        for (const model::PlatformSpec& platform : scene.platforms) {
+          const Eigen::Vector2d q = Eigen::Rotation2Dd(-platform.yaw) *
+                                    Eigen::Vector2d(object.x - platform.x, object.y - platform.y);
+          if (std::abs(q.x()) <= platform.length / 2 && std::abs(q.y()) <= platform.width / 2) {
+            object.on = platform.name;
+            break;
+          }
+        }
+        if (object.on.empty()) {
+          throw core::InputError::Message(where + ".pose.z", "a height is only supported over a platform (the object rests on it)");
+        }
+      }
     }
     if (o.pose) object.yaw = o.pose->yaw_deg.value() * kDegToRad;
     scene.objects.push_back(object);
@@ -165,6 +229,14 @@ ScriptDriver::ScriptDriver(script::EpisodeSpec spec)
     for (const script::CompiledPhase& phase : act.phases) set(phase.event, EventKind::kPhase, actor);
     if (act.cue && act.cue->event >= 0) event_info_[static_cast<size_t>(act.cue->event)].cue_kind = act.cue->kind;
   }
+  // CIR series when an act contradicts a robot act.
+  predicate_names_ = {"success"};
+  for (const script::CompiledAct& act : graph_.acts) {
+    if (act.human && act.contradicts >= 0) {
+      predicate_names_ = {"success", "intent", "contradicted"};
+      break;
+    }
+  }
   for (size_t w = 0; w < graph_.watched.size(); ++w) {
     for (const auto& [id, truth] : {std::pair{graph_.watch_true_event[w], "true"},
                                     std::pair{graph_.watch_false_event[w], "false"}}) {
@@ -183,21 +255,31 @@ void ScriptDriver::reset(const model::Model& model, sim::Data& data) {
   motions_.assign(graph_.acts.size(), ActMotion{});
   active_ = -1;
   last_holding_ = {};
-  holding_plan_ = -1;
+  holding_plan_ = {-1, -1};
   events_seen_ = 0;
-  // Graph objects in the model.
-  object_of_graph_.clear();
+  // Graph objects in the model: objects, or platforms (fixed).
+  object_of_graph_.assign(graph_.objects.size(), -1);
+  platform_of_graph_.assign(graph_.objects.size(), -1);
   world_.objects.assign(graph_.objects.size(), script::ObjectState{});
   for (size_t i = 0; i < graph_.objects.size(); ++i) {
+    script::ObjectState& state = world_.objects[i];
     const int index = model.object_index(graph_.objects[i]);
-    if (index < 0) {
+    const int platform = model.platform_index(graph_.objects[i]);
+    if (index >= 0) {
+      object_of_graph_[i] = index;
+      const size_t o = static_cast<size_t>(index);
+      state.half_extents = model.objects[o].half_extents;
+      state.p_WO_initial = object_centre_pose(model, data, o).translation;
+    } else if (platform >= 0) {
+      platform_of_graph_[i] = platform;
+      const model::PlatformInfo& info = model.platforms[static_cast<size_t>(platform)];
+      state.X_WO = info.X_WC;
+      state.half_extents = info.half_extents;
+      state.p_WO_initial = info.X_WC.translation;
+    } else {
       throw core::InputError::Message(object_where(graph_.objects[i]),
                                       "not in the model (build it with scene_spec_from_episode)");
     }
-    object_of_graph_.push_back(index);
-    const size_t o = static_cast<size_t>(index);
-    world_.objects[i].half_extents = model.objects[o].half_extents;
-    world_.objects[i].p_WO_initial = object_centre_pose(model, data, o).translation;
   }
   p_WT_home_ = sim::tcp_pose(model, data).translation;
   world_.table_height = model::kTableTopZ;
@@ -205,26 +287,44 @@ void ScriptDriver::reset(const model::Model& model, sim::Data& data) {
 
 void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
   if (active_ < 0 || !model.has_human) return;
-  ActMotion& motion = motions_[static_cast<size_t>(active_)];
-  if (!motion.plan) return;
-  const double t = data.time() - motion.start;
-  sim::set_human_pose(model, data, motion.plan->pose_at(t, motion.signals));
-  // Hand holds follow the plan's labels (changes within this plan only).
-  const human::FrameLabel label = motion.plan->label_at(t, motion.signals);
-  if (holding_plan_ != active_) {
-    holding_plan_ = active_;
-    for (size_t h = 0; h < 2; ++h) last_holding_[h] = label.hands[h].holding;
-    return;
-  }
+  const ActMotion& body = motions_[static_cast<size_t>(active_)];
+  if (!body.plan) return;
+  human::SkeletonPose pose = body.plan->pose_at(data.time() - body.start, body.signals);
+  // Each hand follows the latest started act that moves it (a person holding a lid with one
+  // hand while the other points); the rest of the body the latest started act.
+  std::array<human::FrameLabel, 2> labels;
+  std::array<int, 2> owner = {active_, active_};
   for (size_t h = 0; h < 2; ++h) {
-    const std::string& holding = label.hands[h].holding;
+    if (!body.moves[h]) {
+      for (size_t i = 0; i < motions_.size(); ++i) {
+        const ActMotion& m = motions_[i];
+        if (!m.plan || !m.moves[h]) continue;
+        if (owner[h] == active_ || m.start >= motions_[static_cast<size_t>(owner[h])].start) {
+          owner[h] = static_cast<int>(i);
+        }
+      }
+    }
+    const ActMotion& m = motions_[static_cast<size_t>(owner[h])];
+    const double t = data.time() - m.start;
+    labels[h] = m.plan->label_at(t, m.signals);
+    if (owner[h] == active_) continue;
+    const human::SkeletonPose arm = m.plan->pose_at(t, m.signals);
+    for (const human::Joint j : kArm[h]) pose.local[static_cast<size_t>(human::index(j))] = arm.local[static_cast<size_t>(human::index(j))];
+  }
+  sim::set_human_pose(model, data, pose);
+  // Hand holds follow the owning plan's labels (changes within one plan only).
+  for (size_t h = 0; h < 2; ++h) {
+    const std::string& holding = labels[h].hands[h].holding;
+    if (holding_plan_[h] != owner[h]) {
+      holding_plan_[h] = owner[h];
+      last_holding_[h] = holding;
+      continue;
+    }
     if (holding == last_holding_[h]) continue;
     last_holding_[h] = holding;
     if (!holding.empty()) {
       const int object = model.object_index(holding);
-      if (object >= 0 && sim::held_object(data, kSides[h]) != object) {
-        sim::grasp_by_human(model, data, kSides[h], object);
-      }
+      if (object >= 0 && sim::held_object(data, kSides[h]) != object) grasp(model, data, kSides[h], object);
     } else if (sim::held_object(data, kSides[h])) {
       sim::release_by_human(model, data, kSides[h]);
     }
@@ -238,6 +338,7 @@ void ScriptDriver::fill_world(const model::Model& model, const sim::Data& data) 
   // Objects.
   std::vector<int> graph_of_model(model.objects.size(), -1);
   for (size_t i = 0; i < object_of_graph_.size(); ++i) {
+    if (object_of_graph_[i] < 0) continue;  // a platform: fixed, set at reset
     const size_t o = static_cast<size_t>(object_of_graph_[i]);
     graph_of_model[o] = static_cast<int>(i);
     const model::ObjectInfo& info = model.objects[o];
@@ -298,6 +399,7 @@ void ScriptDriver::start_plan(const model::Model& model, const sim::Data& data, 
   };
   motion.plan.emplace(human::plan_motion(model.skeleton, data.human_pose,
                                          primitive_params(spec_, act, centre)));
+  for (size_t h = 0; h < 2; ++h) motion.moves[h] = moves_hand(*motion.plan, h);
   // Waiting phases the runtime does not hold open end at their nominal time.
   const script::CompiledAct& compiled = graph_.acts[act];
   for (const human::Segment& segment : motion.plan->segments()) {
@@ -362,7 +464,23 @@ void ScriptDriver::observe(const model::Model& model, const sim::Data& data,
   }
   bool success = !graph_.success.empty();
   for (const int p : graph_.success) success = success && runtime_.value[static_cast<size_t>(p)] != 0;
-  predicates.assign(1, success ? 1 : 0);
+  predicates.assign(predicate_names_.size(), 0);
+  predicates[0] = success ? 1 : 0;
+  if (predicate_names_.size() == 3) {
+    // intent: the success predicates (they state the latest intent); contradicted: the goal of
+    // a robot act that a started human act contradicts holds.
+    bool contradicted = false;
+    for (size_t i = 0; i < graph_.acts.size(); ++i) {
+      const script::CompiledAct& act = graph_.acts[i];
+      if (!act.human || act.contradicts < 0) continue;
+      const script::ActStatus status = runtime_.acts[i].status;
+      if (status != script::ActStatus::kRunning && status != script::ActStatus::kDone) continue;
+      const int goal = graph_.acts[static_cast<size_t>(act.contradicts)].goal;
+      if (goal >= 0 && runtime_.value[static_cast<size_t>(goal)] != 0) contradicted = true;
+    }
+    predicates[1] = predicates[0];
+    predicates[2] = contradicted ? 1 : 0;
+  }
 }
 
 }  // namespace hribench::eval

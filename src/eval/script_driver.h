@@ -65,7 +65,10 @@ class ScriptDriver : public ScenarioDriver {
   // passed to reset/drive/observe must be built from scene_spec_from_episode(spec).
   explicit ScriptDriver(script::EpisodeSpec spec);
 
-  std::vector<std::string> predicate_names() const override { return {"success"}; }
+  // "success"; with an act that contradicts a robot act (I5) also "intent" (= success: the
+  // script's success predicates state the latest intent) and "contradicted" (the goal of a
+  // robot act that a started human act contradicts holds), the series the CIR metric reads.
+  std::vector<std::string> predicate_names() const override { return predicate_names_; }
   void reset(const model::Model& model, sim::Data& data) override;
   void drive(const model::Model& model, sim::Data& data) override;
   void observe(const model::Model& model, const sim::Data& data,
@@ -83,6 +86,7 @@ class ScriptDriver : public ScenarioDriver {
     size_t phase = 0;  // runtime phase index last seen
     double start = 0;  // s, act start
     bool started = false;
+    std::array<bool, 2> moves{};  // the plan moves the left / right hand
   };
   struct EventInfo {
     EventKind kind = EventKind::kWarning;
@@ -101,11 +105,13 @@ class ScriptDriver : public ScenarioDriver {
   script::RuntimeState runtime_;
   script::WorldSnapshot world_;
   std::vector<EventInfo> event_info_;       // per event id
-  std::vector<int> object_of_graph_;        // graph object -> model object index
+  std::vector<int> object_of_graph_;        // graph object -> model object index, -1: platform
+  std::vector<int> platform_of_graph_;      // graph object -> model platform index, -1: object
+  std::vector<std::string> predicate_names_;
   std::vector<ActMotion> motions_;          // per act
   int active_ = -1;                         // act whose plan poses the body, -1 none
   std::array<std::string, 2> last_holding_; // label of each hand at the last physics step
-  int holding_plan_ = -1;                   // act whose labels last_holding_ came from
+  std::array<int, 2> holding_plan_ = {-1, -1};  // act whose labels last_holding_[h] came from
   size_t events_seen_ = 0;
   core::Vec3 p_WT_home_ = core::Vec3::Zero();
 };

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "core/errors.h"
 #include "eval/runner.h"
@@ -12,6 +15,7 @@
 #include "script/check.h"
 #include "script/sample.h"
 #include "sim/data.h"
+#include "sim/hold.h"
 #include "support/mujoco_fixture.h"
 
 namespace hribench::eval {
@@ -37,6 +41,29 @@ class ScriptDriverTest : public hribench::testing::MujocoTest {
     ExpectNoWarnings(data.mj.get());
     return log;
   }
+  // Runs a script's episode (seed) with the robot at home, calling `at` after every control
+  // step (what the runner does, without a policy); returns when `at` returns false or at
+  // the horizon.
+  static void play(const script::EpisodeSpec& spec, const model::Model& model, double horizon,
+                   const std::function<bool(const ScriptDriver&, const sim::Data&)>& at) {
+    sim::Data data = sim::make_data(model);
+    ScriptDriver driver(spec);
+    sim::reset(model, data);
+    driver.reset(model, data);
+    sim::forward(model, data);
+    std::vector<uint8_t> predicates;
+    std::vector<Event> events;
+    while (data.time() < horizon) {
+      for (int i = 0; i < 25; ++i) {
+        driver.drive(model, data);
+        sim::step(model, data);
+      }
+      sim::forward(model, data);
+      driver.observe(model, data, predicates, events);
+      if (!at(driver, data)) break;
+    }
+    ExpectNoWarnings(data.mj.get());
+  }
   // Samples a script at seed 1, builds its model and runs a noop episode.
   EpisodeLog run_script(const std::string& path, double horizon) {
     const script::EpisodeSpec spec = script::sample(script::load_scenario(path), 1);
@@ -56,17 +83,120 @@ TEST_F(ScriptDriverTest, SceneSpecCarriesObjectsAndHuman) {
   EXPECT_NEAR(scene.human.yaw, spec.human.stand.yaw_deg.value() * core::kPi / 180, 1e-12);
 }
 
-TEST_F(ScriptDriverTest, GrayBecomesGreyAndPlatformsAreRefused) {
+TEST_F(ScriptDriverTest, GrayBecomesGreyAndSizesOnlyForPlatforms) {
   script::EpisodeSpec spec = stop_go_spec();
   spec.scene.objects[1].value.color = script::Text("gray");
   EXPECT_EQ(scene_spec_from_episode(spec).objects[1].colour, "grey");
-  spec.scene.objects[0].value.kind = script::Text("platform");
+  spec.scene.objects[0].value.size = {script::Num(0.1), script::Num(0.1), script::Num(0.1)};
   try {
     scene_spec_from_episode(spec);
-    FAIL() << "a platform object was accepted";
+    FAIL() << "an explicit size was accepted";
   } catch (const core::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("scene.objects.cube"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()),
+              "scene.objects.cube: an explicit size is not supported by the model (only the kind's size)");
   }
+  spec.scene.objects[0].value.kind = script::Text("platform");
+  spec.scene.objects[0].value.size.pop_back();
+  try {
+    scene_spec_from_episode(spec);
+    FAIL() << "a platform without a height was accepted";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "scene.objects.cube: a platform needs a size [x, y, z] and a pose xy");
+  }
+  spec = stop_go_spec();
+  spec.scene.objects[0].value.pose->z = script::Num(0.9);
+  try {
+    scene_spec_from_episode(spec);
+    FAIL() << "a height over the table was accepted";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "scene.objects.cube.pose.z: a height is only supported over a platform (the object rests on it)");
+  }
+}
+
+// C3 and C4 map to the model: the item inside the box, the support and the platform as
+// named platforms with the plank resting on the support.
+TEST_F(ScriptDriverTest, ContainersAndPlatformsMapToTheModel) {
+  const script::EpisodeSpec c3 = script::sample(script::load_scenario("tasks/C3_box_retrieval.yaml"), 3);
+  const model::SceneSpec box_scene = scene_spec_from_episode(c3);
+  ASSERT_EQ(box_scene.objects.size(), 3u);
+  EXPECT_EQ(box_scene.objects[1].name, "item");
+  EXPECT_EQ(box_scene.objects[1].inside, "box");
+  EXPECT_DOUBLE_EQ(box_scene.objects[1].y, box_scene.objects[0].y);
+  EXPECT_NO_THROW(model::build(box_scene));
+  const script::EpisodeSpec c4 = script::sample(script::load_scenario("tasks/C4_co_lift.yaml"), 3);
+  const model::SceneSpec lift_scene = scene_spec_from_episode(c4);
+  ASSERT_EQ(lift_scene.platforms.size(), 2u);
+  EXPECT_EQ(lift_scene.platforms[0].name, "support");
+  EXPECT_DOUBLE_EQ(lift_scene.platforms[0].height, 0.08);
+  EXPECT_EQ(lift_scene.platforms[1].name, "platform");
+  EXPECT_DOUBLE_EQ(lift_scene.platforms[1].width, 0.20);
+  ASSERT_EQ(lift_scene.objects.size(), 1u);
+  EXPECT_EQ(lift_scene.objects[0].on, "support");
+  EXPECT_NO_THROW(model::build(lift_scene));
+}
+
+// C3: the person's hand holds the lid open by its edge through the hold phase and closes it.
+TEST_F(ScriptDriverTest, ThePersonHoldsTheBoxLidOpenDuringTheHold) {
+  const script::EpisodeSpec spec = script::sample(script::load_scenario("tasks/C3_box_retrieval.yaml"), 1);
+  const model::Model model = model::build(scene_spec_from_episode(spec));
+  const model::ObjectInfo& box = model.objects[static_cast<size_t>(model.object_index("box"))];
+  const int hinge = model.m()->jnt_qposadr[box.lid_joint];
+  double open_deg = 0;
+  for (const auto& v : spec.acts[0].value.motion->params) {
+    if (v.name == "open_deg") open_deg = v.value.scalar.expr.number;
+  }
+  double min_in_hold = 1e9, max_before = 0;
+  std::optional<double> after_close;
+  bool held_box = false;
+  play(spec, model, 30.0, [&](const ScriptDriver& driver, const sim::Data& data) {
+    const double lid = data.mj->qpos[hinge] * 180 / core::kPi;
+    const double t = data.time();
+    const double hold = script::event_time(driver.graph(), driver.runtime(), "lid.hold");
+    const double close = script::event_time(driver.graph(), driver.runtime(), "lid.close");
+    const double end = script::event_time(driver.graph(), driver.runtime(), "lid.end");
+    if (std::isnan(hold)) max_before = std::max(max_before, lid);
+    if (!std::isnan(hold) && t > hold + 0.3 && std::isnan(close)) min_in_hold = std::min(min_in_hold, lid);
+    if (sim::held_object(data, human::Side::kRight) == model.object_index("box")) held_box = true;
+    if (!std::isnan(end) && t > end + 1.0) {
+      after_close = lid;
+      return false;
+    }
+    return true;
+  });
+  EXPECT_TRUE(held_box);
+  EXPECT_LT(max_before, open_deg);
+  // Open to about the drawn angle (the hinge stops at 1.9 rad = 109 deg).
+  EXPECT_GT(min_in_hold, std::min(open_deg, 109.0) - 20) << "drawn " << open_deg;
+  ASSERT_TRUE(after_close.has_value()) << "the lid act never ended";
+  EXPECT_LT(std::abs(*after_close), 10);
+}
+
+// C4: both hands take the plank's end and lift it by the act's height; the robot's end stays
+// on the support (the noop robot does not lift).
+TEST_F(ScriptDriverTest, ThePersonLiftsTheirEndOfThePlank) {
+  const script::EpisodeSpec spec = script::sample(script::load_scenario("tasks/C4_co_lift.yaml"), 1);
+  const model::Model model = model::build(scene_spec_from_episode(spec));
+  const size_t plank = static_cast<size_t>(model.object_index("plank"));
+  double lifted = 0;
+  bool both_hands = false;
+  play(spec, model, 20.0, [&](const ScriptDriver& driver, const sim::Data& data) {
+    const mjtNum* q = data.mj->qpos + model.objects[plank].qpos_adr;
+    const core::Quat r = core::quat_from_wxyz(q + 3).normalized();
+    const core::Vec3 end = core::Vec3(q[0], q[1], q[2] + 0.02) + r * core::Vec3(0.28, 0, 0);
+    if (sim::held_object(data, human::Side::kLeft) == static_cast<int>(plank) &&
+        sim::held_object(data, human::Side::kRight) == static_cast<int>(plank)) {
+      both_hands = true;
+    }
+    const double lift_end = script::event_time(driver.graph(), driver.runtime(), "hlift.end");
+    if (!std::isnan(lift_end)) {
+      lifted = end.z() - 0.85;
+      return false;
+    }
+    return true;
+  });
+  EXPECT_TRUE(both_hands);
+  EXPECT_NEAR(lifted, 0.18, 0.05);
 }
 
 TEST_F(ScriptDriverTest, NoopEpisodeMovesTheHumanOnScheduleDeterministically) {
