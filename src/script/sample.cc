@@ -72,35 +72,57 @@ void draw_vars(const Named<Any>& defs, const core::Rng& rng, VarTable& table, Na
   }
 }
 
-// Distractor objects with drawn kinds, colours and table positions kept apart from the rest.
+// Radius of the circle around an object's footprint (m), any yaw: the model's nominal sizes
+// (model/objects.cc), or a platform's explicit size; 0 for an unknown kind.
+double footprint_radius(const SceneObject& o) {
+  const std::string& kind = o.kind.value();
+  if (o.size.size() >= 2) return 0.5 * std::hypot(o.size[0].value(), o.size[1].value());
+  if (kind == "cube") return std::hypot(0.025, 0.025);
+  if (kind == "cup") return 0.035;
+  if (kind == "bottle") return 0.032;
+  if (kind == "plate") return 0.1;
+  if (kind == "bin") return std::hypot(0.12, 0.09);
+  if (kind == "tray") return std::hypot(0.15, 0.11);
+  if (kind == "box") return std::hypot(0.1, 0.08);
+  if (kind == "plank") return std::hypot(0.3, 0.03);
+  return 0;
+}
+
+// Distractor objects with drawn kinds, colours and table positions: their footprint circles
+// kDistractorGap clear of every other placed object's (centres at least kDistractorSpacing
+// apart). A distractor with no free place in kDistractorAttempts draws is left out.
 void draw_distractors(EpisodeSpec& spec, const Distractors& d, core::Rng rng) {
   const int count = static_cast<int>(std::lround(d.count.value()));
   std::vector<std::string> kinds;
   for (const Text& k : d.kinds) kinds.push_back(k.value());
   if (kinds.empty()) kinds = {"cube", "cup", "bottle"};
+  int placed = 0;
   for (int i = 1; i <= count; ++i) {
     SceneObject o;
     o.kind = Text(kinds[static_cast<size_t>(rng.uniform_int(0, static_cast<int64_t>(kinds.size()) - 1))].c_str());
     const auto& colors = object_colors();
     o.color = Text(colors[static_cast<size_t>(rng.uniform_int(0, static_cast<int64_t>(colors.size()) - 1))].c_str());
+    const double radius = footprint_radius(o);
     ObjectPose pose;
     double x = 0, y = 0;
-    for (int attempt = 0; attempt < 50; ++attempt) {
+    bool free = false;
+    for (int attempt = 0; attempt < kDistractorAttempts && !free; ++attempt) {
       x = rng.uniform(kDistractorXMin, kDistractorXMax);
       y = rng.uniform(kDistractorYMin, kDistractorYMax);
-      bool free = true;
+      free = true;
       for (const Entry<SceneObject>& other : spec.scene.objects) {
         if (!other.value.pose || other.value.pose->xy.size() != 2) continue;
         const double dx = other.value.pose->xy[0].value() - x;
         const double dy = other.value.pose->xy[1].value() - y;
-        free = free && std::hypot(dx, dy) >= kDistractorSpacing;
+        const double clearance = std::max(kDistractorSpacing, radius + footprint_radius(other.value) + kDistractorGap);
+        free = free && std::hypot(dx, dy) >= clearance;
       }
-      if (free) break;
     }
+    if (!free) continue;
     pose.xy = {Num(x), Num(y)};
     pose.yaw_deg = Num(rng.uniform(0.0, 360.0));
     o.pose = pose;
-    spec.scene.objects.push_back({"distractor_" + std::to_string(i), {}, std::move(o)});
+    spec.scene.objects.push_back({"distractor_" + std::to_string(++placed), {}, std::move(o)});
   }
 }
 

@@ -22,9 +22,13 @@ std::string spec_hash(const EpisodeSpec& spec);
 std::string spec_to_text(const EpisodeSpec& spec);
 EpisodeSpec spec_from_text(std::string_view text, std::string_view source);
 
-// Table area where distractors are placed (x, y ranges in m) and their minimum spacing.
+// Table area where distractors are placed (x, y ranges in m), their minimum centre spacing,
+// the gap kept between footprint circles (m), and the draws tried per distractor before it is
+// left out.
 inline constexpr double kDistractorXMin = 0.25, kDistractorXMax = 0.75;
 inline constexpr double kDistractorYMin = -0.40, kDistractorYMax = 0.40;
 inline constexpr double kDistractorSpacing = 0.12;
+inline constexpr double kDistractorGap = 0.02;
+inline constexpr int kDistractorAttempts = 50;
 
 }  // namespace hribench::script

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <set>
 
@@ -32,6 +33,43 @@ TEST(SampleTest, SameSeedGivesTheSameSpecAndHash) {
 TEST(SampleTest, TheHandoverAtSeed42HasItsPinnedHash) {
   EXPECT_EQ(spec_hash(sample(load_scenario(kHandover), 42)),
             "2ef221087667f968750d8b862478e91180f59d8150affd0370d9fcf714d6589e");
+}
+
+// Distractors keep their footprint circles 2 cm clear of every other object's (the bin's
+// circle is 0.15 m: the old 0.12 m centre spacing let them overlap it); those without room
+// are left out and the names stay contiguous.
+TEST(SampleTest, DistractorsKeepClearOfOtherObjectsByFootprint) {
+  Scenario scenario = load_scenario("tasks/I1_point_pick.yaml");
+  scenario.scene.distractors.count = Num(20.0);  // more than fit
+  const auto radius = [](const std::string& kind) {
+    if (kind == "bin") return std::hypot(0.12, 0.09);
+    if (kind == "cube") return std::hypot(0.025, 0.025);
+    if (kind == "cup") return 0.035;
+    ADD_FAILURE() << "unexpected kind " << kind;
+    return 0.0;
+  };
+  size_t placed = 0, left_out = 0;
+  for (uint64_t seed = 0; seed < 40; ++seed) {
+    const EpisodeSpec spec = sample(scenario, seed);
+    size_t distractors = 0;
+    for (size_t i = 0; i < spec.scene.objects.size(); ++i) {
+      const Entry<SceneObject>& a = spec.scene.objects[i];
+      if (a.name.rfind("distractor_", 0) != 0) continue;
+      EXPECT_EQ(a.name, "distractor_" + std::to_string(++distractors));
+      for (size_t j = 0; j < spec.scene.objects.size(); ++j) {
+        const Entry<SceneObject>& b = spec.scene.objects[j];
+        if (j == i || !b.value.pose) continue;
+        const double d = std::hypot(a.value.pose->xy[0].value() - b.value.pose->xy[0].value(),
+                                    a.value.pose->xy[1].value() - b.value.pose->xy[1].value());
+        EXPECT_GE(d, radius(a.value.kind.value()) + radius(b.value.kind.value()) + 0.02 - 1e-12)
+            << "seed " << seed << ": " << a.name << " and " << b.name;
+      }
+    }
+    placed += distractors;
+    left_out += 20 - distractors;
+  }
+  EXPECT_GT(placed, 40u);
+  EXPECT_GT(left_out, 0u);
 }
 
 TEST(SampleTest, DifferentSeedsGiveDifferentSpecs) {
