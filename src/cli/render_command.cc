@@ -49,10 +49,10 @@ namespace {
 // The free camera: looks at the middle of the shared workspace, slightly above the table.
 struct FreeView {
   double azimuth = -75;    // deg; MuJoCo convention (0: looking along +x, 90: along +y)
-  double elevation = -18;  // deg; negative looks down
-  double distance = 2.7;   // m from the look-at point
+  double elevation = -20;  // deg; negative looks down
+  double distance = 2.0;   // m from the look-at point
 };
-constexpr double kFreeLookat[3] = {0.6, 0.0, 1.1};  // world, m
+constexpr double kFreeLookat[3] = {0.6, 0.0, 1.05};  // world, m
 
 struct RenderOptions {
   std::string out;
