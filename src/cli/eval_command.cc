@@ -3,6 +3,9 @@
 // nothing), and writes DIR/results.json, summary.md and summary.csv at the end.
 // DIR/options.json records the options that change results; another run's folder is refused
 // unless --resume (same options) or --force.
+// With --pool DIR [--split eval|adapt|test] the episodes are those of a generated pool's split
+// (gen/pool.h: re-sampled from the manifest's seeds and checked against its hashes) instead of
+// sampled seeds; the results' options name the pool and its version.
 
 #include <algorithm>
 #include <chrono>
@@ -29,6 +32,7 @@
 #include "eval/runner.h"
 #include "eval/script_contract.h"
 #include "eval/script_driver.h"
+#include "gen/pool.h"
 #include "model/model.h"
 #include "policy/registry.h"
 #include "script/check.h"
@@ -41,7 +45,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct EvalOptions {
-  std::string tasks;
+  std::string tasks = "all";
   std::string policies;
   int episodes = 10;
   uint64_t seed = 0;
@@ -51,6 +55,9 @@ struct EvalOptions {
   std::string out;
   bool resume = false;
   bool force = false;
+  std::string pool;            // a pool folder, or empty: sample seeds
+  std::string split = "eval";  // with pool
+  bool sampling_flags = false; // --episodes or --seed given
 };
 
 std::vector<std::string> split_list(const std::string& text) {
@@ -61,44 +68,6 @@ std::vector<std::string> split_list(const std::string& text) {
     if (!item.empty()) items.push_back(item);
   }
   return items;
-}
-
-// A task name (I4, I4_stop_go), a file, or `all` -> script paths, sorted for `all`.
-std::vector<std::string> resolve_tasks(const std::string& list) {
-  const fs::path dir = "tasks";
-  std::vector<std::string> all;
-  if (fs::is_directory(dir)) {
-    for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
-      if (entry.path().extension() == ".yaml") all.push_back(entry.path().string());
-    }
-  }
-  std::sort(all.begin(), all.end());
-  std::vector<std::string> paths;
-  for (const std::string& name : split_list(list)) {
-    if (name == "all") {
-      if (all.empty()) throw core::InputError::Message("--tasks", "no tasks/*.yaml found");
-      paths.insert(paths.end(), all.begin(), all.end());
-      continue;
-    }
-    if (fs::is_regular_file(name)) {
-      paths.push_back(name);
-      continue;
-    }
-    std::optional<std::string> found;
-    for (const std::string& path : all) {
-      const std::string stem = fs::path(path).stem().string();
-      if (stem == name || stem.rfind(name + "_", 0) == 0) {
-        found = path;
-        break;
-      }
-    }
-    if (!found) {
-      throw core::InputError("--tasks", "a task name or file of tasks/ (or all)", "'" + name + "'");
-    }
-    paths.push_back(*found);
-  }
-  if (paths.empty()) throw core::InputError("--tasks", "a task list", "'" + list + "'");
-  return paths;
 }
 
 struct Job {
@@ -195,42 +164,68 @@ int run_eval(const EvalOptions& o) {
     throw core::InputError("--horizon", "a positive number of seconds", std::to_string(o.horizon));
   }
   const eval::Latency latency = eval::parse_latency(o.latency);
-  const std::vector<std::string> task_files = resolve_tasks(o.tasks);
   const std::vector<std::string> policies = split_list(o.policies);
   if (policies.empty()) throw core::InputError("--policy", "a policy list", "'" + o.policies + "'");
   for (const std::string& p : policies) policy::make_policy(p);  // unknown -> InputError
 
-  // Sample every (task, seed) episode up front.
-  std::vector<script::EpisodeSpec> specs;
-  specs.reserve(task_files.size() * static_cast<size_t>(o.episodes));
-  for (const std::string& file : task_files) {
-    const script::Scenario scenario = script::load_scenario(file);
-    for (int i = 0; i < o.episodes; ++i) {
-      specs.push_back(script::sample(scenario, o.seed + static_cast<uint64_t>(i)));
+  // The episodes, grouped by task: sampled seeds, or a pool's split.
+  std::vector<std::vector<script::EpisodeSpec>> by_task;
+  nlohmann::json options;
+  if (!o.pool.empty()) {
+    if (o.sampling_flags) {
+      throw core::InputError::Message("--pool", "takes its episodes from the pool; drop --episodes and --seed");
     }
+    const gen::Split split = gen::split_from_name(o.split, "--split");
+    const gen::Manifest manifest = gen::read_manifest(o.pool);
+    const std::vector<std::string> names = o.tasks == "all" ? std::vector<std::string>{} : split_list(o.tasks);
+    std::vector<script::EpisodeSpec> specs = gen::pool_episodes(manifest, split, names);
+    if (specs.empty()) {
+      throw core::InputError("--tasks", "tasks of the pool", "'" + o.tasks + "' (no episodes in split " + o.split + ")");
+    }
+    std::vector<std::string> tasks;
+    for (script::EpisodeSpec& spec : specs) {
+      if (tasks.empty() || tasks.back() != spec.task) {
+        tasks.push_back(spec.task);
+        by_task.emplace_back();
+      }
+      by_task.back().push_back(std::move(spec));
+    }
+    options = {{"tasks", tasks},
+               {"policies", policies},
+               {"pool", o.pool},
+               {"pool_version", manifest.pool_version},
+               {"split", o.split},
+               {"latency", eval::to_string(latency)},
+               {"horizon", o.horizon > 0 ? nlohmann::json(o.horizon) : nlohmann::json("script")}};
+  } else {
+    const std::vector<std::string> task_files = gen::resolve_task_scripts(o.tasks);
+    for (const std::string& file : task_files) {
+      const script::Scenario scenario = script::load_scenario(file);
+      by_task.emplace_back();
+      for (int i = 0; i < o.episodes; ++i) {
+        by_task.back().push_back(script::sample(scenario, o.seed + static_cast<uint64_t>(i)));
+      }
+    }
+    options = {{"tasks", task_files},    {"policies", policies},
+               {"episodes", o.episodes}, {"seed", o.seed},
+               {"latency", eval::to_string(latency)},
+               {"horizon", o.horizon > 0 ? nlohmann::json(o.horizon) : nlohmann::json("script")}};
   }
-
-  const nlohmann::json options = {
-      {"tasks", task_files},   {"policies", policies},
-      {"episodes", o.episodes}, {"seed", o.seed},
-      {"latency", eval::to_string(latency)},
-      {"horizon", o.horizon > 0 ? nlohmann::json(o.horizon) : nlohmann::json("script")}};
   const std::vector<eval::EpisodeResult> finished = prepare_out(o, options);
   std::map<std::string, eval::EpisodeResult> by_key;
   for (const eval::EpisodeResult& r : finished) by_key.emplace(eval::episode_key(r), r);
 
-  // Jobs in (task, policy, seed) order; those already finished are skipped.
+  // Jobs in (task, policy, episode) order; those already finished are skipped.
   std::vector<Job> all_jobs;
   std::vector<size_t> todo;
-  const size_t per_task = static_cast<size_t>(o.episodes);
-  for (size_t t = 0; t < task_files.size(); ++t) {
+  for (const std::vector<script::EpisodeSpec>& specs : by_task) {
     for (const std::string& p : policies) {
-      for (size_t i = 0; i < per_task; ++i) {
+      for (const script::EpisodeSpec& spec : specs) {
         Job job;
-        job.spec = &specs[t * per_task + i];
-        job.hash = script::spec_hash(*job.spec);
+        job.spec = &spec;
+        job.hash = script::spec_hash(spec);
         job.policy = p;
-        job.key = eval::episode_key(job.spec->task, p, job.hash, job.spec->seed);
+        job.key = eval::episode_key(spec.task, p, job.hash, spec.seed);
         if (by_key.count(job.key) == 0) todo.push_back(all_jobs.size());
         all_jobs.push_back(std::move(job));
       }
@@ -275,17 +270,23 @@ HRIB_REGISTER_COMMAND(
     "eval", "Run policies on tasks and score the episodes",
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<EvalOptions>();
-      app.add_option("--tasks", o->tasks, "Task names, files, or all (comma-separated)")->required();
+      app.add_option("--tasks", o->tasks, "Task names, files, or all (comma-separated; default all)");
       app.add_option("--policy", o->policies, "Policy references (comma-separated)")->required();
-      app.add_option("--episodes", o->episodes, "Episodes per task and policy (seeds S..S+N-1)");
-      app.add_option("--seed", o->seed, "First seed");
+      CLI::Option* episodes =
+          app.add_option("--episodes", o->episodes, "Episodes per task and policy (seeds S..S+N-1)");
+      CLI::Option* seed = app.add_option("--seed", o->seed, "First seed");
+      app.add_option("--pool", o->pool, "Evaluate the episodes of this generated pool (hribench generate)");
+      app.add_option("--split", o->split, "The pool's split: eval (default), adapt or test");
       app.add_option("--threads", o->threads, "Worker threads");
       app.add_option("--latency", o->latency, "none | fixed:MS | measured");
       app.add_option("--horizon", o->horizon, "Episode length in seconds (default: the script's)");
       app.add_option("--out", o->out, "Output folder")->required();
       app.add_flag("--resume", o->resume, "Continue the run in --out (same options)");
       app.add_flag("--force", o->force, "Replace the run in --out");
-      return [o] { return run_eval(*o); };
+      return [o, episodes, seed] {
+        o->sampling_flags = episodes->count() > 0 || seed->count() > 0;
+        return run_eval(*o);
+      };
     });
 
 }  // namespace

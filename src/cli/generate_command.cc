@@ -1,0 +1,64 @@
+// `hribench generate --tasks LIST|all --candidates N --seed S --out DIR [--threads N]
+// [--executable-by POLICY|none] [--adapt N --eval N --test N] [--resume]`: the generation
+// pipeline of gen/generate.h. Writes the pool folder (gen/pool.h) and prints the report table.
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "cli/command.h"
+#include "gen/generate.h"
+#include "gen/pool.h"
+
+namespace hribench::cli {
+namespace {
+
+struct GenerateArgs {
+  std::string tasks = "all";
+  size_t candidates = 150;
+  uint64_t seed = 0;
+  int threads = 1;
+  std::string executable_by = "oracle";
+  gen::SplitSizes splits;
+  std::string out;
+  bool resume = false;
+  bool quiet = false;
+};
+
+int run_generate(const GenerateArgs& a) {
+  gen::GenerateOptions o;
+  o.scripts = gen::resolve_task_scripts(a.tasks);
+  o.candidates = a.candidates;
+  o.seed = a.seed;
+  o.threads = a.threads;
+  o.splits = a.splits;
+  o.filters.executable_by = a.executable_by;
+  o.out = a.out;
+  o.resume = a.resume;
+  o.progress = !a.quiet;
+  const gen::GenerationReport report = gen::generate(o);
+  std::fputs(gen::report_markdown(report).c_str(), stdout);
+  return 0;
+}
+
+HRIB_REGISTER_COMMAND(
+    "generate", "Sample, filter and split candidate episodes into a versioned episode pool",
+    [](CLI::App& app) -> std::function<int()> {
+      auto a = std::make_shared<GenerateArgs>();
+      app.add_option("--tasks", a->tasks, "Task names, files, or all (comma-separated)");
+      app.add_option("--candidates", a->candidates, "Candidates per task");
+      app.add_option("--seed", a->seed, "Generation seed (candidate seeds derive from it)");
+      app.add_option("--threads", a->threads, "Worker threads");
+      app.add_option("--executable-by", a->executable_by,
+                     "Policy that must solve each candidate (the executability filter), or none");
+      app.add_option("--adapt", a->splits.adapt, "Episodes per task in the adapt split");
+      app.add_option("--eval", a->splits.eval, "Episodes per task in the eval split");
+      app.add_option("--test", a->splits.test, "Episodes per task in the hidden test split");
+      app.add_option("--out", a->out, "Pool folder")->required();
+      app.add_flag("--resume", a->resume, "Continue an interrupted generation in --out (same options)");
+      app.add_flag("--quiet", a->quiet, "No progress line");
+      return [a] { return run_generate(*a); };
+    });
+
+}  // namespace
+}  // namespace hribench::cli

@@ -1,0 +1,362 @@
+#include "gen/generate.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "policy/registry.h"
+#include "script/check.h"
+#include "script/sample.h"
+
+namespace hribench::gen {
+namespace {
+
+namespace fs = std::filesystem;
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw core::InputError::Message(path.string(), "cannot be written");
+}
+
+// Runs judge(job) for jobs 0..n-1 on `threads` threads; done(job, record) is serialised.
+// The first exception stops new jobs and is rethrown after the running ones finish.
+void run_parallel(size_t n, int threads, const std::function<CandidateRecord(size_t)>& judge,
+                  const std::function<void(size_t, const CandidateRecord&)>& done) {
+  std::atomic<size_t> next{0};
+  std::atomic<bool> stop{false};
+  std::mutex mutex;
+  std::exception_ptr error;
+  const auto worker = [&] {
+    while (!stop) {
+      const size_t job = next++;
+      if (job >= n) return;
+      try {
+        const CandidateRecord record = judge(job);
+        const std::lock_guard<std::mutex> lock(mutex);
+        done(job, record);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (!error) error = std::current_exception();
+        stop = true;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  const size_t count = std::min(static_cast<size_t>(threads), std::max<size_t>(n, 1));
+  for (size_t i = 1; i < count; ++i) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+std::string key(const std::string& task, size_t index) { return task + "#" + std::to_string(index); }
+
+// Candidate lines already in the file (a torn last line is dropped).
+std::vector<CandidateRecord> load_candidates(const fs::path& path) {
+  std::vector<CandidateRecord> records;
+  std::ifstream in(path);
+  std::string line;
+  size_t number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty()) continue;
+    try {
+      records.push_back(candidate_from_json(
+          core::parse_json(line, path.string()), path.string() + ":" + std::to_string(number)));
+    } catch (const core::InputError&) {
+      if (in.peek() == std::char_traits<char>::eof()) break;  // torn by an interruption
+      throw;
+    }
+  }
+  return records;
+}
+
+// Refuses an OUT holding another pool; returns the candidates judged before (resume).
+std::vector<CandidateRecord> prepare_out(const GenerateOptions& o, const core::Json& generator) {
+  const fs::path dir = o.out;
+  const fs::path options_file = dir / "options.json";
+  const fs::path lines_file = dir / "candidates.jsonl";
+  if (fs::exists(dir / "manifest.json")) {
+    throw core::InputError::Message(o.out, "already holds a pool (manifest.json); choose another --out");
+  }
+  std::vector<CandidateRecord> finished;
+  const bool has_run = fs::exists(options_file) || fs::exists(lines_file);
+  if (has_run) {
+    if (!o.resume) {
+      throw core::InputError::Message(
+          o.out, "holds an unfinished generation; use --resume to continue it (same options)");
+    }
+    if (!fs::exists(options_file) || core::read_json_file(options_file.string()) != generator) {
+      throw core::InputError::Message(o.out, "holds a generation with other options; choose another --out");
+    }
+    if (fs::exists(lines_file)) finished = load_candidates(lines_file);
+    std::string text;
+    for (const CandidateRecord& r : finished) text += core::canonical_json(to_json(r)) + "\n";
+    write_text(lines_file, text);
+    return finished;
+  }
+  fs::create_directories(dir);
+  write_text(options_file, core::pretty_json(generator) + "\n");
+  return finished;
+}
+
+}  // namespace
+
+core::Json to_json(const CandidateRecord& r) {
+  return {{"task", r.task},
+          {"candidate", r.index},
+          {"seed", r.seed},
+          {"hash", r.hash},
+          {"failed", r.failed ? core::Json(std::string(to_string(*r.failed))) : core::Json(nullptr)},
+          {"reason", r.reason}};
+}
+
+CandidateRecord candidate_from_json(const core::Json& json, std::string_view source) {
+  const std::string where(source);
+  CandidateRecord r;
+  r.task = core::json_string(core::json_member(json, "task", where), where + " (task)");
+  const core::Json& index = core::json_member(json, "candidate", where);
+  const core::Json& seed = core::json_member(json, "seed", where);
+  if (!index.is_number_unsigned() || !seed.is_number_unsigned()) {
+    throw core::InputError(where, "unsigned candidate and seed", index.dump() + ", " + seed.dump());
+  }
+  r.index = index.get<size_t>();
+  r.seed = seed.get<uint64_t>();
+  r.hash = core::json_string(core::json_member(json, "hash", where), where + " (hash)");
+  const core::Json& failed = core::json_member(json, "failed", where);
+  if (!failed.is_null()) {
+    r.failed = filter_from_name(core::json_string(failed, where + " (failed)"));
+    if (!r.failed) throw core::InputError(where + " (failed)", "a filter name", failed.dump());
+  }
+  r.reason = core::json_string(core::json_member(json, "reason", where), where + " (reason)");
+  return r;
+}
+
+core::Json generator_json(const GenerateOptions& o, const std::vector<std::string>& task_names) {
+  core::Json tasks = core::Json::array();
+  for (size_t i = 0; i < o.scripts.size(); ++i) {
+    tasks.push_back({{"task", task_names.at(i)}, {"script", o.scripts[i]}});
+  }
+  return {{"pool_version", kPoolVersion},
+          {"seed", o.seed},
+          {"candidates_per_task", o.candidates},
+          {"splits", {{"adapt", o.splits.adapt}, {"eval", o.splits.eval}, {"test", o.splits.test}}},
+          {"executable_by", o.filters.executable_by},
+          {"tasks", tasks}};
+}
+
+CandidateRecord judge_candidate(const script::Scenario& scenario, const std::string& task, size_t index,
+                                uint64_t seed, const FilterOptions& filters) {
+  CandidateRecord r;
+  r.task = task;
+  r.index = index;
+  r.seed = candidate_seed(seed, task, index);
+  const script::EpisodeSpec spec = script::sample(scenario, r.seed);
+  r.hash = script::spec_hash(spec);
+  const Verdict verdict = validate_candidate(spec, filters);
+  r.failed = verdict.failed;
+  r.reason = verdict.reason;
+  return r;
+}
+
+core::Json to_json(const GenerationReport& report) {
+  const auto row = [](const TaskReport& t) {
+    core::Json passed = core::Json::object();
+    core::Json examples = core::Json::object();
+    for (size_t k = 0; k < kNumFilters; ++k) {
+      passed[std::string(to_string(kFilters[k]))] = t.passed[k];
+      if (!t.example[k].empty()) examples[std::string(to_string(kFilters[k]))] = t.example[k];
+    }
+    return core::Json{{"task", t.task},           {"script", t.script},
+                      {"candidates", t.candidates}, {"passed", passed},
+                      {"validated", t.validated},   {"yield", t.yield()},
+                      {"first_rejection", examples}};
+  };
+  core::Json tasks = core::Json::array();
+  for (const TaskReport& t : report.tasks) tasks.push_back(row(t));
+  core::Json filters = core::Json::array();
+  for (const Filter f : kFilters) filters.push_back(std::string(to_string(f)));
+  const core::Json constants = {
+      {"reach_joint_margin_rad", kReachJointMargin},
+      {"reach_position_tolerance_m", kReachPositionTolerance},
+      {"reach_rotation_tolerance_rad", kReachRotationTolerance},
+      {"place_clearance_m", kPlaceClearance},
+      {"penetration_tolerance_m", kPenetrationTolerance},
+      {"hand_table_tolerance_m", kHandTableTolerance},
+      {"forearm_table_tolerance", "capsule radius"},
+      {"plan_fps", kPlanFps},
+      {"cue_region_radius_m", kCueRegionRadius},
+      {"label_still_speed_mps", kLabelStillSpeed},
+      {"image_margin", kImageMargin}};
+  return {{"generator", report.generator}, {"filters", filters}, {"constants", constants},
+          {"tasks", tasks},                {"total", row(report.total)}};
+}
+
+std::string report_markdown(const GenerationReport& report) {
+  std::ostringstream md;
+  md << "# Generation report (pool version " << kPoolVersion << ")\n\n";
+  md << "Candidates left after each filter (in pipeline order), validated episodes and yield.\n"
+     << "Seed " << report.generator.value("seed", core::Json(0)).dump() << ", "
+     << report.generator.value("candidates_per_task", core::Json(0)).dump()
+     << " candidates per task, executable by `"
+     << report.generator.value("executable_by", core::Json("")).get<std::string>() << "`.\n\n";
+  md << "| task | candidates |";
+  for (const Filter f : kFilters) md << ' ' << to_string(f) << " |";
+  md << " validated | yield |\n|---|---:|";
+  for (size_t k = 0; k < kNumFilters; ++k) md << "---:|";
+  md << "---:|---:|\n";
+  const auto row = [&](const TaskReport& t) {
+    md << "| " << t.task << " | " << t.candidates << " |";
+    for (size_t k = 0; k < kNumFilters; ++k) md << ' ' << t.passed[k] << " |";
+    md << ' ' << t.validated << " | " << fmt::format("{:.1f} %", 100 * t.yield()) << " |\n";
+  };
+  for (const TaskReport& t : report.tasks) row(t);
+  row(report.total);
+  md << "\nFirst rejection of each filter, per task:\n\n";
+  for (const TaskReport& t : report.tasks) {
+    for (size_t k = 0; k < kNumFilters; ++k) {
+      if (!t.example[k].empty()) md << "- " << t.task << ", " << to_string(kFilters[k]) << ": " << t.example[k] << "\n";
+    }
+  }
+  return md.str();
+}
+
+GenerationReport generate(const GenerateOptions& o) {
+  // Bad options first, before anything is written.
+  if (o.scripts.empty()) throw core::InputError("--tasks", "at least one task", "none");
+  if (o.threads <= 0) throw core::InputError("--threads", "a positive number", std::to_string(o.threads));
+  if (o.splits.adapt == 0 || o.splits.eval == 0) {
+    throw core::InputError("--splits", "adapt and eval sizes > 0",
+                           std::to_string(o.splits.adapt) + " and " + std::to_string(o.splits.eval));
+  }
+  if (o.candidates < o.splits.total()) {
+    throw core::InputError::Message(
+        "--candidates",
+        fmt::format("{} per task cannot fill the splits ({} adapt + {} eval + {} test = {}): {} missing",
+                    o.candidates, o.splits.adapt, o.splits.eval, o.splits.test, o.splits.total(),
+                    o.splits.total() - o.candidates));
+  }
+  if (o.filters.executable_by != "none") policy::make_policy(o.filters.executable_by);
+  std::vector<script::Scenario> scenarios;
+  std::vector<std::string> names;
+  for (const std::string& file : o.scripts) {
+    scenarios.push_back(script::load_scenario(file));
+    names.push_back(scenarios.back().task);
+  }
+  for (size_t i = 0; i < names.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      if (names[i] == names[j]) {
+        throw core::InputError::Message("--tasks", "task '" + names[i] + "' is given twice");
+      }
+    }
+  }
+  const core::Json generator = generator_json(o, names);
+  const std::vector<CandidateRecord> finished = prepare_out(o, generator);
+
+  // Judge every candidate not judged before; append each as it finishes.
+  std::map<std::string, CandidateRecord> by_key;
+  for (const CandidateRecord& r : finished) by_key.emplace(key(r.task, r.index), r);
+  std::vector<std::pair<size_t, size_t>> todo;  // (task, candidate)
+  for (size_t t = 0; t < names.size(); ++t) {
+    for (size_t i = 0; i < o.candidates; ++i) {
+      if (by_key.count(key(names[t], i)) == 0) todo.emplace_back(t, i);
+    }
+  }
+  const fs::path lines_file = fs::path(o.out) / "candidates.jsonl";
+  std::ofstream lines(lines_file, std::ios::app | std::ios::binary);
+  const auto start = std::chrono::steady_clock::now();
+  size_t done = 0, validated = 0;
+  for (const CandidateRecord& r : finished) validated += r.failed ? 0 : 1;
+  const size_t all = names.size() * o.candidates;
+  run_parallel(
+      todo.size(), o.threads,
+      [&](size_t job) {
+        const auto [t, i] = todo[job];
+        return judge_candidate(scenarios[t], names[t], i, o.seed, o.filters);
+      },
+      [&](size_t, const CandidateRecord& r) {
+        lines << core::canonical_json(to_json(r)) << "\n" << std::flush;
+        by_key.emplace(key(r.task, r.index), r);
+        ++done;
+        validated += r.failed ? 0 : 1;
+        if (!o.progress) return;
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0;
+        const double eta = rate > 0 ? static_cast<double>(todo.size() - done) / rate : 0;
+        std::fprintf(stderr, "\rhribench generate: %zu/%zu candidates (%zu resumed), %zu validated, %.2f/s, ETA %.0f s ",
+                     done + finished.size(), all, finished.size(), validated, rate, eta);
+        std::fflush(stderr);
+      });
+  lines.close();
+  if (o.progress && !todo.empty()) std::fprintf(stderr, "\n");
+
+  // The report, in (task, candidate) order.
+  GenerationReport report;
+  report.generator = generator;
+  report.total.task = "all";
+  std::vector<std::vector<const CandidateRecord*>> valid(names.size());
+  for (size_t t = 0; t < names.size(); ++t) {
+    TaskReport row;
+    row.task = names[t];
+    row.script = o.scripts[t];
+    for (size_t i = 0; i < o.candidates; ++i) {
+      const CandidateRecord& r = by_key.at(key(names[t], i));
+      ++row.candidates;
+      const size_t failed_at = r.failed ? static_cast<size_t>(*r.failed) : kNumFilters;
+      for (size_t k = 0; k < failed_at; ++k) ++row.passed[k];
+      if (r.failed && row.example[failed_at].empty()) {
+        row.example[failed_at] = fmt::format("candidate {}: {}", i, r.reason);
+      }
+      if (!r.failed) valid[t].push_back(&r);
+    }
+    row.validated = valid[t].size();
+    report.total.candidates += row.candidates;
+    report.total.validated += row.validated;
+    for (size_t k = 0; k < kNumFilters; ++k) report.total.passed[k] += row.passed[k];
+    report.tasks.push_back(row);
+  }
+  std::string missing;
+  for (const TaskReport& t : report.tasks) {
+    if (t.validated < o.splits.total()) {
+      missing += fmt::format("{}{} has {} validated of {} needed ({} missing)", missing.empty() ? "" : "; ",
+                             t.task, t.validated, o.splits.total(), o.splits.total() - t.validated);
+    }
+  }
+  if (!missing.empty()) {
+    write_text(fs::path(o.out) / "report.md", report_markdown(report));
+    throw core::InputError::Message("--candidates", "too few validated episodes to fill the splits: " +
+                                                        missing + "; generate again with more candidates");
+  }
+
+  // Splits, episode files and the manifest.
+  Manifest manifest;
+  manifest.generator = generator;
+  for (size_t t = 0; t < names.size(); ++t) {
+    const std::vector<Split> splits = assign_splits(valid[t].size(), o.seed, names[t], o.splits);
+    const fs::path dir = fs::path(o.out) / "episodes" / names[t];
+    fs::create_directories(dir);
+    for (size_t k = 0; k < valid[t].size(); ++k) {
+      const CandidateRecord& r = *valid[t][k];
+      const script::EpisodeSpec spec = script::sample(scenarios[t], r.seed);
+      write_text(dir / fmt::format("c{:04d}.json", r.index), script::spec_to_text(spec));
+      manifest.episodes.push_back(PoolEntry{names[t], o.scripts[t], splits[k], r.index, r.seed, r.hash});
+    }
+  }
+  write_text(fs::path(o.out) / "report.json", core::pretty_json(to_json(report)) + "\n");
+  write_text(fs::path(o.out) / "report.md", report_markdown(report));
+  write_text(fs::path(o.out) / "manifest.json", core::pretty_json(to_json(manifest)) + "\n");
+  return report;
+}
+
+}  // namespace hribench::gen

@@ -1,0 +1,87 @@
+#pragma once
+// The generation pipeline (issue 7): sample `candidates` episodes of every task script (seeds
+// from gen::candidate_seed), judge each with the filters of gen/filters.h on a thread pool,
+// split the validated ones (gen::assign_splits), and write the pool folder (gen/pool.h):
+// episode specs, manifest, generation report. Deterministic for any thread count: every
+// output is ordered by (task, candidate index), never by completion order, and holds no
+// wall-clock time.
+//
+// Resumable: each judged candidate is appended to OUT/candidates.jsonl as it finishes; with
+// `resume` a folder made with the same options continues without judging those again.
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/json.h"
+#include "gen/filters.h"
+#include "gen/pool.h"
+#include "script/scenario.h"
+
+namespace hribench::gen {
+
+struct GenerateOptions {
+  std::vector<std::string> scripts;  // task script files, in report order
+  size_t candidates = 150;           // per task
+  uint64_t seed = 0;
+  int threads = 1;
+  SplitSizes splits;
+  FilterOptions filters;
+  std::string out;                   // the pool folder
+  bool resume = false;
+  bool progress = true;              // a progress line on stderr
+};
+
+// One judged candidate.
+struct CandidateRecord {
+  std::string task;
+  size_t index = 0;
+  uint64_t seed = 0;
+  std::string hash;
+  std::optional<Filter> failed;  // nullopt: validated
+  std::string reason;
+};
+core::Json to_json(const CandidateRecord& record);
+CandidateRecord candidate_from_json(const core::Json& json, std::string_view source);
+
+// Counts of one task (or of all tasks).
+struct TaskReport {
+  std::string task;
+  std::string script;
+  size_t candidates = 0;
+  std::array<size_t, kNumFilters> passed{};  // candidates that passed filter k (and all before)
+  std::array<std::string, kNumFilters> example;  // the first rejection reason of filter k
+  size_t validated = 0;
+  double yield() const { return candidates ? static_cast<double>(validated) / static_cast<double>(candidates) : 0; }
+};
+
+struct GenerationReport {
+  core::Json generator;            // the options (as in the manifest)
+  std::vector<TaskReport> tasks;
+  TaskReport total;                // task "all"
+};
+core::Json to_json(const GenerationReport& report);
+// The report table: one row per task, the candidates left after each filter, the yield.
+std::string report_markdown(const GenerationReport& report);
+
+// The options that define a pool (written into the manifest and options.json): version,
+// seed, candidates, split sizes, executable_by, and each task's name and script.
+core::Json generator_json(const GenerateOptions& options, const std::vector<std::string>& task_names);
+
+// Judges one candidate: samples it and runs the filters.
+CandidateRecord judge_candidate(const script::Scenario& scenario, const std::string& task, size_t index,
+                                uint64_t seed, const FilterOptions& filters);
+
+// Runs the whole pipeline and writes the pool. Throws core::InputError, writing nothing, for
+// a script that fails check, an unknown executable_by policy, candidates < splits.total(),
+// bad thread counts, or an OUT that holds another pool (a manifest, or a generation with other
+// options; a generation with the same options only with `resume`); after judging, throws
+// core::InputError naming each task that has too few validated episodes and how many are
+// missing (OUT then holds candidates.jsonl only, so --resume with more candidates is not
+// possible: start again with a larger --candidates in a new folder).
+GenerationReport generate(const GenerateOptions& options);
+
+}  // namespace hribench::gen

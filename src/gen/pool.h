@@ -1,0 +1,88 @@
+#pragma once
+// The episode pool (issue 7): validated episodes of every task, split into `adapt` (policy
+// adaptation), `eval` (the held-out evaluation split) and `test` (hidden), and named by a
+// versioned manifest.
+//
+// A pool folder holds:
+//   manifest.json          {"pool_version", "generator" (the options that made it),
+//                           "episodes": [{task, script, split, candidate, seed, hash}]}
+//   report.json, report.md the generation report (gen/generate.h)
+//   options.json           the generator options (for --resume)
+//   candidates.jsonl       one line per candidate as it was judged (for --resume)
+//   episodes/TASK/cNNNN.json  each validated episode spec (script::spec_to_text)
+// Only manifest.json and the report are needed to evaluate: an episode is re-sampled from its
+// script and seed, and its content hash must equal the manifest's (otherwise the scripts or
+// the sampler changed and the pool version must be bumped).
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/json.h"
+#include "script/scenario.h"
+
+namespace hribench::gen {
+
+// Any change to the pipeline that alters the pool must bump this.
+inline constexpr int kPoolVersion = 1;
+
+enum class Split { kAdapt, kEval, kTest };
+std::string_view to_string(Split split);  // "adapt" | "eval" | "test"
+// Throws core::InputError (where = `where`) for anything else.
+Split split_from_name(std::string_view name, std::string_view where);
+
+// Episodes per task in each split.
+struct SplitSizes {
+  size_t adapt = 50;
+  size_t eval = 10;
+  size_t test = 10;
+  size_t total() const { return adapt + eval + test; }
+};
+
+// The seed of candidate `index` of `task` in a generation seeded with `seed` (48 bits, so it
+// is exact in any JSON reader).
+uint64_t candidate_seed(uint64_t seed, std::string_view task, size_t index);
+
+// The split of each of `validated` episodes of a task (in candidate order): a deterministic
+// shuffle seeded by (seed, task); the first sizes.adapt go to adapt, the next sizes.eval to
+// eval, the rest to test. Requires validated >= sizes.total().
+std::vector<Split> assign_splits(size_t validated, uint64_t seed, std::string_view task,
+                                 const SplitSizes& sizes);
+
+struct PoolEntry {
+  std::string task;    // the scenario's task name, e.g. "point_pick"
+  std::string script;  // the script file it was sampled from, e.g. "tasks/I1_point_pick.yaml"
+  Split split = Split::kAdapt;
+  size_t candidate = 0;
+  uint64_t seed = 0;
+  std::string hash;    // script::spec_hash
+};
+
+struct Manifest {
+  int pool_version = kPoolVersion;
+  core::Json generator = core::Json::object();  // the options that made the pool
+  std::vector<PoolEntry> episodes;  // by task (generator order), then candidate index
+};
+
+core::Json to_json(const Manifest& manifest);
+// Throws core::InputError (where = "SOURCE (key.path)") for a malformed manifest, a pool
+// version this build does not know, or two episodes sharing a seed within a task.
+Manifest manifest_from_json(const core::Json& json, std::string_view source);
+// DIR/manifest.json; throws core::InputError when missing or malformed.
+Manifest read_manifest(const std::string& dir);
+
+// Task names (I4, I4_stop_go, stop_go's file stem prefix), script files, or `all` (every
+// tasks/*.yaml, sorted), comma-separated -> script paths. Throws core::InputError (where =
+// "--tasks") for a name that matches nothing or an empty list.
+std::vector<std::string> resolve_task_scripts(const std::string& list);
+
+// The episodes of `split` (all tasks, or those whose task name or script stem matches one of
+// `tasks`), re-sampled from their scripts (paths relative to the working directory) and
+// checked against the manifest hashes. Throws core::InputError when a script is missing or
+// fails check, or when an episode's hash differs ("the pool was made by other scripts").
+std::vector<script::EpisodeSpec> pool_episodes(const Manifest& manifest, Split split,
+                                               const std::vector<std::string>& tasks = {});
+
+}  // namespace hribench::gen
