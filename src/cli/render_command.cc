@@ -132,8 +132,9 @@ Moment parse_moment(const std::string& text) {
 std::string event_names(const eval::EpisodeLog& log) {
   std::vector<std::string> names;
   for (const eval::Event& e : log.events) {
-    const bool listed = e.kind == eval::EventKind::kActStart || e.kind == eval::EventKind::kActEnd ||
-                        e.kind == eval::EventKind::kPhase || e.kind == eval::EventKind::kCue;
+    const bool listed =
+        e.kind == eval::EventKind::kActStart || e.kind == eval::EventKind::kActEnd ||
+        e.kind == eval::EventKind::kPhase || e.kind == eval::EventKind::kCue;
     if (listed && std::find(names.begin(), names.end(), e.name) == names.end()) {
       names.push_back(e.name);
     }
@@ -260,7 +261,8 @@ void check_view(const RenderOptions& o, bool view_given) {
                                     "--azimuth, --elevation and --distance need --camera free");
   }
   if (!std::isfinite(o.view.azimuth)) {
-    throw core::InputError("--azimuth", "a finite angle in degrees", fmt::format("{}", o.view.azimuth));
+    throw core::InputError("--azimuth", "a finite angle in degrees",
+                           fmt::format("{}", o.view.azimuth));
   }
   if (!(o.view.elevation >= -90 && o.view.elevation <= 90)) {
     throw core::InputError("--elevation", "an angle in [-90, 90] degrees",

@@ -30,12 +30,17 @@ std::string temp_png(const std::string& name) {
       .string();
 }
 
-// Runs `args` and expects exit 2 with exactly the one line "hribench: error: <message>".
-void expect_one_line_error(const std::string& args, const std::string& message) {
+// Runs `args`, expects exit 2 and one line of output, and returns that output.
+std::string one_line_error_output(const std::string& args) {
   const auto r = run_hribench(args);
   EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
   EXPECT_EQ(count_lines(r.output), 1) << args << "\n" << r.output;
-  EXPECT_EQ(r.output, "hribench: error: " + message + "\n") << args;
+  return r.output;
+}
+
+// Runs `args` and expects exit 2 with exactly the one line "hribench: error: <message>".
+void expect_one_line_error(const std::string& args, const std::string& message) {
+  EXPECT_EQ(one_line_error_output(args), "hribench: error: " + message + "\n") << args;
 }
 
 TEST(RenderCommandTest, WritesAReadablePng) {
@@ -203,17 +208,16 @@ TEST(RenderCommandTest, BadMomentsAreOneLine) {
 
 TEST(RenderCommandTest, UnknownEventNamesTheEpisodesEvents) {
   const std::string out = temp_png("hribench_render_task_event.png");
-  const auto r = run_hribench("render --out " + out + " --task " + kPointPick +
-                              " --seed 0 --width 8 --height 8 --at point.nosuch");
-  EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_EQ(count_lines(r.output), 1) << r.output;
-  EXPECT_EQ(r.output.rfind("hribench: error: --at: expected an event of I1_point_pick seed 0 "
+  const std::string output = one_line_error_output(
+      "render --out " + out + " --task " + kPointPick +
+      " --seed 0 --width 8 --height 8 --at point.nosuch");
+  EXPECT_EQ(output.rfind("hribench: error: --at: expected an event of I1_point_pick seed 0 "
                            "with noop (",
                            0),
             0u)
-      << r.output;
-  EXPECT_NE(r.output.find("point.stroke"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("), got 'point.nosuch'\n"), std::string::npos) << r.output;
+      << output;
+  EXPECT_NE(output.find("point.stroke"), std::string::npos) << output;
+  EXPECT_NE(output.find("), got 'point.nosuch'\n"), std::string::npos) << output;
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
@@ -224,10 +228,9 @@ TEST(RenderCommandTest, BadTaskFilesAreOneLine) {
   // A script with a schema problem: its first problem, with file and line.
   const std::string bad = temp_png("hribench_render_bad_task.yaml");
   std::ofstream(bad) << "hribench: 1\ntask: broken\n";
-  const auto r = run_hribench("render --out " + out + " --task " + bad + " --at cue");
-  EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_EQ(count_lines(r.output), 1) << r.output;
-  EXPECT_EQ(r.output.rfind("hribench: error: " + bad + ":", 0), 0u) << r.output;
+  const std::string output =
+      one_line_error_output("render --out " + out + " --task " + bad + " --at cue");
+  EXPECT_EQ(output.rfind("hribench: error: " + bad + ":", 0), 0u) << output;
   EXPECT_FALSE(std::filesystem::exists(out));
   std::remove(bad.c_str());
 }
@@ -242,11 +245,10 @@ TEST(RenderCommandTest, MisplacedTaskAndViewOptionsAreOneLine) {
                         "--elevation: expected an angle in [-90, 90] degrees, got 95");
   expect_one_line_error("render --out " + out + " --camera free --distance 0",
                         "--distance: expected a distance in (0, 20] m, got 0");
-  const auto r = run_hribench("render --out " + out + " --task " + std::string(kPointPick) +
-                              " --policy nosuch");
-  EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_EQ(count_lines(r.output), 1) << r.output;
-  EXPECT_NE(r.output.find("nosuch"), std::string::npos) << r.output;
+  EXPECT_EQ(one_line_error_output("render --out " + out + " --task " + kPointPick +
+                                  " --policy nosuch")
+                .rfind("hribench: error: policy: expected one of ", 0),
+            0u);
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
