@@ -214,15 +214,19 @@ CandidateScene make_candidate_scene(const script::EpisodeSpec& spec) {
     if (i < 0) throw core::InputError("motion", "a scene object", "'" + name + "'");
     return model.objects[static_cast<size_t>(i)].X_W_start.translation;
   };
+  // Acts follow each other in spec order, each from where the previous one ended; an act
+  // that fails the episode (giving up) is an alternative ending and moves nobody on.
+  human::SkeletonPose pose = model.human_start;
   for (size_t a = 0; a < spec.acts.size(); ++a) {
     const script::Act& act = spec.acts[a].value;
     if (act.actor != "human" || !act.motion || !act.motion->primitive) continue;
     PlannedAct planned;
     planned.act = a;
     planned.params = eval::primitive_params(spec, a, centre);
-    const human::MotionPlan plan = human::plan_motion(model.skeleton, model.human_start, planned.params);
+    const human::MotionPlan plan = human::plan_motion(model.skeleton, pose, planned.params);
     planned.active_hand = plan.active_hand();
     planned.clip = plan.to_clip(kPlanFps);
+    if (!act.fails && !planned.clip.clip.frames.empty()) pose = planned.clip.clip.frames.back();
     scene.plans.push_back(std::move(planned));
   }
   return scene;

@@ -11,9 +11,8 @@
 //   reachable    every place a robot goal names (objects to grasp, containers and surfaces to
 //                place on, objects to approach) has a top-down TCP pose the Panda reaches by
 //                differential IK with every joint kReachJointMargin inside its limits;
-//   penetration  the human's planned motions (each human act planned from the start pose, at
-//                kPlanFps) keep every body capsule out of the table and of every object the
-//                human does not carry, by more than kPenetrationTolerance (against the table:
+//   penetration  the human's planned motions (see PlannedAct) keep every body capsule out of
+//                the table and of every object the human does not carry, by more than kPenetrationTolerance (against the table:
 //                forearms by more than their radius, i.e. the bones stay out, and hands by
 //                more than kHandTableTolerance; hands never collide with objects in the model,
 //                so they are not checked against them);
@@ -80,8 +79,9 @@ struct FilterOutcome {
   static FilterOutcome Fail(std::string why) { return {false, std::move(why)}; }
 };
 
-// The motion planned for one human act with a primitive (from the human's start pose; waiting
-// phases at their minimum duration), sampled at kPlanFps.
+// The motion planned for one human act with a primitive (acts in spec order, each from the
+// last pose of the one before, `fails` acts excepted; waiting phases at their minimum
+// duration), sampled at kPlanFps.
 struct PlannedAct {
   size_t act = 0;  // index in spec.acts
   human::LabelledClip clip;

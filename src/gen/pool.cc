@@ -152,7 +152,9 @@ std::vector<std::string> resolve_task_scripts(const std::string& list) {
     }
     const auto found = std::find_if(all.begin(), all.end(), [&](const std::string& path) {
       const std::string stem = fs::path(path).stem().string();
-      return stem == name || stem.rfind(name + "_", 0) == 0;
+      const std::string suffix = "_" + name;
+      return stem == name || stem.rfind(name + "_", 0) == 0 ||
+             (stem.size() > suffix.size() && stem.compare(stem.size() - suffix.size(), suffix.size(), suffix) == 0);
     });
     if (found == all.end()) {
       throw core::InputError("--tasks", "a task name or file of tasks/ (or all)", "'" + name + "'");

@@ -73,7 +73,7 @@ Manifest manifest_from_json(const core::Json& json, std::string_view source);
 // DIR/manifest.json; throws core::InputError when missing or malformed.
 Manifest read_manifest(const std::string& dir);
 
-// Task names (I4, I4_stop_go, stop_go's file stem prefix), script files, or `all` (every
+// Task names (I4, stop_go or I4_stop_go: a script's stem, its prefix or its name), script files, or `all` (every
 // tasks/*.yaml, sorted), comma-separated -> script paths. Throws core::InputError (where =
 // "--tasks") for a name that matches nothing or an empty list.
 std::vector<std::string> resolve_task_scripts(const std::string& list);
