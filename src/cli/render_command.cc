@@ -230,7 +230,8 @@ RenderedMoment run_to_moment(TaskEpisode& episode, const RenderOptions& o) {
   }
   if (!watch.what().empty()) {  // the event plus the offset lies past the horizon
     throw core::InputError::Message(
-        "--at", fmt::format("{}: past the episode's horizon ({} s)", watch.what(), end));
+        "--at", fmt::format("{}: past the episode's horizon ({} s)", watch.what(),
+                            episode.spec.horizon));
   }
   throw core::InputError("--at",
                          "an event of " + episode.task_id + " seed " + std::to_string(o.seed) +

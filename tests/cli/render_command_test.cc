@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 
@@ -143,6 +144,19 @@ size_t distinct_colours(const render::Image& image) {
 
 constexpr const char* kPointPick = "tasks/I1_point_pick.yaml";
 
+// I1 with an 8 s horizon (its pointing ends by then), in a temporary file: for the moments
+// that need the whole episode run (an unknown event, a moment past the horizon).
+std::string short_point_pick() {
+  std::ifstream in(kPointPick);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t at = text.find("\nhorizon: 30\n");
+  EXPECT_NE(at, std::string::npos);
+  const std::string path = temp_png("I1_short.yaml");
+  std::ofstream(path) << text.substr(0, at) << "\nhorizon: 8\n"
+                      << text.substr(at + std::string("\nhorizon: 30\n").size());
+  return path;
+}
+
 TEST(RenderCommandTest, TaskEventMomentIsRenderedAndDiffersFromTheStart) {
   const std::string start = temp_png("hribench_render_task_start.png");
   const std::string stroke = temp_png("hribench_render_task_stroke.png");
@@ -203,22 +217,32 @@ TEST(RenderCommandTest, BadMomentsAreOneLine) {
                         "--at: expected " + expected + ", got 'point.stroke+x'");
   expect_one_line_error("render --out " + out + task + " --at 31",
                         "--at: expected a time within the episode's horizon [0, 30] s, got 31");
+  // An event that happens, with an offset past the horizon.
+  const std::string short_task = short_point_pick();
+  const std::string past = one_line_error_output("render --out " + out + " --task " + short_task +
+                                                 " --width 8 --height 8 --at point.end+5");
+  EXPECT_EQ(past.rfind("hribench: error: --at: point.end at ", 0), 0u) << past;
+  EXPECT_NE(past.find(" s + 5 s: past the episode's horizon (8 s)\n"), std::string::npos) << past;
   EXPECT_FALSE(std::filesystem::exists(out));
+  std::remove(short_task.c_str());
 }
 
 TEST(RenderCommandTest, UnknownEventNamesTheEpisodesEvents) {
   const std::string out = temp_png("hribench_render_task_event.png");
+  const std::string short_task = short_point_pick();
   const std::string output = one_line_error_output(
-      "render --out " + out + " --task " + kPointPick +
+      "render --out " + out + " --task " + short_task +
       " --seed 0 --width 8 --height 8 --at point.nosuch");
-  EXPECT_EQ(output.rfind("hribench: error: --at: expected an event of I1_point_pick seed 0 "
-                           "with noop (",
-                           0),
+  // The task is named by its file's stem; the events the episode has are listed.
+  const std::string stem = std::filesystem::path(short_task).stem().string();
+  EXPECT_EQ(output.rfind("hribench: error: --at: expected an event of " + stem +
+                             " seed 0 with noop (point.start, point.prep, point.stroke, ",
+                         0),
             0u)
       << output;
-  EXPECT_NE(output.find("point.stroke"), std::string::npos) << output;
   EXPECT_NE(output.find("), got 'point.nosuch'\n"), std::string::npos) << output;
   EXPECT_FALSE(std::filesystem::exists(out));
+  std::remove(short_task.c_str());
 }
 
 TEST(RenderCommandTest, BadTaskFilesAreOneLine) {
