@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "core/errors.h"
+#include "human/arm_ik.h"
 #include "human/primitives.h"
 #include "sim/contact.h"
 #include "sim/control.h"
@@ -49,10 +50,6 @@ core::Pose object_centre_pose(const model::Model& model, const sim::Data& data, 
 }
 
 const human::Joint kWrist[2] = {human::Joint::kLeftWrist, human::Joint::kRightWrist};
-// The joints of each arm (left, right), collar to wrist.
-const std::array<human::Joint, 4> kArm[2] = {
-    {human::Joint::kLeftCollar, human::Joint::kLeftShoulder, human::Joint::kLeftElbow, human::Joint::kLeftWrist},
-    {human::Joint::kRightCollar, human::Joint::kRightShoulder, human::Joint::kRightElbow, human::Joint::kRightWrist}};
 
 // A hand takes an object the way its kind is held: a box by its lid (hold_lid), a plank by
 // the point under the palm (both hands at one end), anything else whole.
@@ -308,8 +305,14 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
     const double t = data.time() - m.start;
     labels[h] = m.plan->label_at(t, m.signals);
     if (owner[h] == active_) continue;
+    // The arm reaches where the owning plan puts the wrist (world pose), from this torso.
     const human::SkeletonPose arm = m.plan->pose_at(t, m.signals);
-    for (const human::Joint j : kArm[h]) pose.local[static_cast<size_t>(human::index(j))] = arm.local[static_cast<size_t>(human::index(j))];
+    const core::Pose X_WW = human::forward_kinematics(model.skeleton, arm)[static_cast<size_t>(human::index(kWrist[h]))];
+    human::ArmTarget target;
+    target.wrist = X_WW.translation;
+    target.hand = X_WW.rotation;
+    target.swivel = m.plan->key_at(t, m.signals).hands[h].swivel;
+    human::solve_arm(model.skeleton, pose, kSides[h], target);
   }
   sim::set_human_pose(model, data, pose);
   // Hand holds follow the owning plan's labels (changes within one plan only).

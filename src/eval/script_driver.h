@@ -3,29 +3,33 @@
 // the model scene of a sampled episode.
 //
 // ScriptDriver, each control step (observe): fills a script::WorldSnapshot from the simulation
-// (objects in ActGraph::objects order, TCP, gripper, finger contacts, palms and holds), steps
-// the runtime, plans the motion (human::plan_motion) of every human act that started, from the
-// human's current pose, and copies the runtime's new events into the log. Each physics step
-// (drive): poses the human from the most recently started act's plan at (t - act start) and
-// applies the plan's hand labels (holding X begins: sim::grasp_by_human; ends:
-// sim::release_by_human). Only label changes within one plan act: a new plan starts from a
-// pose whose hands hold nothing in its labels, so switching plans keeps the holds as they are
-// (a person who gives up an offer keeps the object).
+// (objects in ActGraph::objects order — platforms as fixed boxes —, TCP, gripper, finger
+// contacts, palms and holds), steps the runtime, plans the motion (human::plan_motion) of every
+// human act that started, from the human's current pose, and copies the runtime's new events
+// into the log. Each physics step (drive): poses the body from the most recently started act's
+// plan at (t - act start); each hand follows the latest started act whose plan moves that hand
+// (its arm solved to that plan's wrist pose from the current torso), so a person can hold a lid
+// with one hand while the other points. Holds follow the hand's plan labels (holding X begins:
+// a box is held by its lid, sim::grasp_lid_by_human; a plank by point holds,
+// sim::grasp_point_by_human; anything else sim::grasp_by_human; ends: sim::release_by_human).
+// Only label changes within one plan act: a new plan starts from a pose whose hands hold
+// nothing in its labels, so switching plans keeps the holds as they are (a person who gives up
+// an offer keeps the object).
 //
 // Signals of waiting phases: a waiting phase without an `until` predicate ends at its nominal
 // time (signal 0); with one, the plan waits until the runtime leaves the phase, and the signal
 // is the runtime's phase change time (seen at the next control step, so the hand holds up to
 // one control step longer than the runtime's phase event says).
 //
-// Predicate series: one, "success" = every success predicate of the graph holds.
+// Predicate series: "success" = every success predicate of the graph holds; with a
+// contradiction (an act with `contradicts`), also "intent" and "contradicted" (CIR).
 // Event kinds: ACT.start / ACT.end -> kActStart / kActEnd (actor human or robot); ACT.PHASE ->
 // kPhase (and also kCue, name = that event, detail = the cue kind, when it is an act's cue);
 // PRED:true/false -> kPredicateChange (name PRED, detail "true"/"false"); ACT.skipped ->
 // kWarning (name "ACT.skipped", detail "skipped").
 //
-// Not handled yet: acts with an imported `clip` motion (the body keeps its pose), concurrent
-// human acts on different hands (only the latest started act moves the body), box lids held by
-// the hand (grasp_lid_by_human), walking plans re-planned when an act starts mid-walk.
+// Not handled yet: acts with an imported `clip` motion (the body keeps its pose), walking
+// plans re-planned when an act starts mid-walk.
 
 #include <array>
 #include <cstdint>
@@ -45,10 +49,13 @@
 namespace hribench::eval {
 
 // The model scene of a sampled episode: objects (kind, name, colour — "gray" becomes "grey" —,
-// footprint x/y and yaw from pose, or the container's x/y for an object `in` one, held_by
-// human.left/right) and the human (height, stand x/y/yaw, handedness). Throws core::InputError
-// (where "scene.objects.NAME") for what the model cannot build: platform objects, objects with
-// an explicit `size`, objects with neither pose, container nor hand.
+// footprint x/y and yaw from pose; an object `in` a container starts inside it at the
+// container's x/y; one with a pose `z` rests on the platform under it; held_by
+// human.left/right), platform objects as named model platforms (size [x, y, z], pose xy and
+// yaw) and the human (height, stand x/y/yaw, handedness). Throws core::InputError (where
+// "scene.objects.NAME") for what the model cannot build: an explicit `size` on anything but a
+// platform, a platform without size or pose, a pose `z` over no platform, objects with neither
+// pose, container nor hand.
 model::SceneSpec scene_spec_from_episode(const script::EpisodeSpec& spec);
 
 // The motion parameters of a sampled human act (act index `act` of spec.acts) for the human

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,7 @@
 #include "policy/builtin.h"
 #include "script/check.h"
 #include "script/sample.h"
+#include "script/schema_io.h"
 #include "sim/data.h"
 #include "sim/hold.h"
 #include "support/mujoco_fixture.h"
@@ -45,7 +48,7 @@ class ScriptDriverTest : public hribench::testing::MujocoTest {
   // step (what the runner does, without a policy); returns when `at` returns false or at
   // the horizon.
   static void play(const script::EpisodeSpec& spec, const model::Model& model, double horizon,
-                   const std::function<bool(const ScriptDriver&, const sim::Data&)>& at) {
+                   const std::function<bool(const ScriptDriver&, const sim::Data&, const std::vector<uint8_t>&)>& at) {
     sim::Data data = sim::make_data(model);
     ScriptDriver driver(spec);
     sim::reset(model, data);
@@ -60,7 +63,7 @@ class ScriptDriverTest : public hribench::testing::MujocoTest {
       }
       sim::forward(model, data);
       driver.observe(model, data, predicates, events);
-      if (!at(driver, data)) break;
+      if (!at(driver, data, predicates)) break;
     }
     ExpectNoWarnings(data.mj.get());
   }
@@ -149,7 +152,7 @@ TEST_F(ScriptDriverTest, ThePersonHoldsTheBoxLidOpenDuringTheHold) {
   double min_in_hold = 1e9, max_before = 0;
   std::optional<double> after_close;
   bool held_box = false;
-  play(spec, model, 30.0, [&](const ScriptDriver& driver, const sim::Data& data) {
+  play(spec, model, 30.0, [&](const ScriptDriver& driver, const sim::Data& data, const std::vector<uint8_t>&) {
     const double lid = data.mj->qpos[hinge] * 180 / core::kPi;
     const double t = data.time();
     const double hold = script::event_time(driver.graph(), driver.runtime(), "lid.hold");
@@ -172,6 +175,114 @@ TEST_F(ScriptDriverTest, ThePersonHoldsTheBoxLidOpenDuringTheHold) {
   EXPECT_LT(std::abs(*after_close), 10);
 }
 
+// Concurrent acts on different hands: the left hand points at the tray while the right holds
+// the lid open; each hand plays its own act, so the lid still closes on the lid act's schedule
+// (the right arm is not frozen by the later pointing act) and the left hand points.
+TEST_F(ScriptDriverTest, ConcurrentActsMoveTheirOwnHands) {
+  std::ifstream in("tasks/C3_box_retrieval.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  const std::string pointing = R"(  look:
+    actor: human
+    after: lid.hold
+    delay: 0.5
+    motion:
+      primitive: point
+      hand: left
+      target: tray
+      prep: 0.3
+      stroke: 0.6
+      hold: 1.0
+      retract: 0.7
+      extension: 0.85
+)";
+  const size_t robot_acts = yaml.find("  # Robot acts");
+  ASSERT_NE(robot_acts, std::string::npos);
+  yaml.insert(robot_acts, pointing);
+  std::vector<core::InputError> problems;
+  const script::Scenario scenario = script::parse_scenario(yaml, "C3+look", problems);
+  ASSERT_TRUE(problems.empty()) << problems.front().what();
+  const script::EpisodeSpec spec = script::sample(scenario, 1);
+  const model::Model model = model::build(scene_spec_from_episode(spec));
+  const model::ObjectInfo& box = model.objects[static_cast<size_t>(model.object_index("box"))];
+  const int hinge = model.m()->jnt_qposadr[box.lid_joint];
+  const size_t left_wrist = static_cast<size_t>(human::index(human::Joint::kLeftWrist));
+  core::Vec3 left_start = core::Vec3::Zero();
+  double left_moved = 0, open_while_pointing = 1e9;
+  std::optional<double> after_close;
+  play(spec, model, 30.0, [&](const ScriptDriver& driver, const sim::Data& data, const std::vector<uint8_t>&) {
+    const double t = data.time();
+    const double look_hold = script::event_time(driver.graph(), driver.runtime(), "look.hold");
+    const double look_retract = script::event_time(driver.graph(), driver.runtime(), "look.retract");
+    const double lid_end = script::event_time(driver.graph(), driver.runtime(), "lid.end");
+    if (left_start.isZero()) left_start = data.X_WJ[left_wrist].translation;
+    left_moved = std::max(left_moved, (data.X_WJ[left_wrist].translation - left_start).norm());
+    if (!std::isnan(look_hold) && std::isnan(look_retract)) {
+      open_while_pointing = std::min(open_while_pointing, data.mj->qpos[hinge] * 180 / core::kPi);
+    }
+    if (!std::isnan(lid_end) && t > lid_end + 1.0) {
+      after_close = data.mj->qpos[hinge] * 180 / core::kPi;
+      return false;
+    }
+    return true;
+  });
+  EXPECT_GT(left_moved, 0.15);
+  EXPECT_GT(open_while_pointing, 80);
+  ASSERT_TRUE(after_close.has_value());
+  EXPECT_LT(std::abs(*after_close), 10);
+}
+
+// CIR series: with an act that contradicts a robot act, "intent" follows the success
+// predicates and "contradicted" is the contradicted act's goal once the contradiction started.
+TEST_F(ScriptDriverTest, AContradictionAddsIntentAndContradictedSeries) {
+  const std::string yaml = R"(hribench: 1
+task: contra
+role: instructor
+instruction: "Put the cube on the plate."
+horizon: 5
+scene:
+  objects:
+    cube: {kind: cube, color: red, pose: {xy: [0.45, -0.2]}}
+    plate: {kind: plate, color: white, pose: {xy: [0.45, 0.25]}}
+human:
+  height: 1.75
+  stand: {x: 1.3, y: 0, yaw_deg: 180}
+  handedness: right
+acts:
+  nope:
+    actor: human
+    onset: 1.0
+    motion: {primitive: cancel, hand: right, style: wave_off, raise: 0.5, gesture: 1.0}
+    contradicts: deliver
+    cue: {at: nope.gesture, window: 1.5, kind: stop}
+  deliver:
+    actor: robot
+    goal: not moved(cube, 0.05)
+success:
+  - on(cube, plate)
+)";
+  std::vector<core::InputError> problems;
+  const script::Scenario scenario = script::parse_scenario(yaml, "contra", problems);
+  ASSERT_TRUE(problems.empty()) << problems.front().what();
+  const script::EpisodeSpec spec = script::sample(scenario, 1);
+  const model::Model model = model::build(scene_spec_from_episode(spec));
+  EXPECT_EQ(ScriptDriver(spec).predicate_names(), (std::vector<std::string>{"success", "intent", "contradicted"}));
+  std::vector<std::pair<double, std::vector<uint8_t>>> seen;
+  play(spec, model, 2.0, [&](const ScriptDriver&, const sim::Data& data, const std::vector<uint8_t>& p) {
+    seen.emplace_back(data.time(), p);
+    return true;
+  });
+  ASSERT_FALSE(seen.empty());
+  for (const auto& [t, p] : seen) {
+    ASSERT_EQ(p.size(), 3u);
+    EXPECT_EQ(p[1], p[0]) << t;
+    EXPECT_EQ(p[2], t >= 1.0 ? 1 : 0) << t;
+  }
+  // Without a contradiction: only "success".
+  EXPECT_EQ(ScriptDriver(stop_go_spec()).predicate_names(), std::vector<std::string>{"success"});
+}
+
 // C4: both hands take the plank's end and lift it by the act's height; the robot's end stays
 // on the support (the noop robot does not lift).
 TEST_F(ScriptDriverTest, ThePersonLiftsTheirEndOfThePlank) {
@@ -180,7 +291,7 @@ TEST_F(ScriptDriverTest, ThePersonLiftsTheirEndOfThePlank) {
   const size_t plank = static_cast<size_t>(model.object_index("plank"));
   double lifted = 0;
   bool both_hands = false;
-  play(spec, model, 20.0, [&](const ScriptDriver& driver, const sim::Data& data) {
+  play(spec, model, 20.0, [&](const ScriptDriver& driver, const sim::Data& data, const std::vector<uint8_t>&) {
     const mjtNum* q = data.mj->qpos + model.objects[plank].qpos_adr;
     const core::Quat r = core::quat_from_wxyz(q + 3).normalized();
     const core::Vec3 end = core::Vec3(q[0], q[1], q[2] + 0.02) + r * core::Vec3(0.28, 0, 0);
