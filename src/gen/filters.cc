@@ -511,17 +511,31 @@ FilterOutcome check_visibility(CandidateScene& scene) {
       }
     }
     if (first >= clip.frames.size()) continue;  // a cue at an event the motion does not show
-    const human::SkeletonPose& pose = clip.frames[(first + last) / 2];
+    const size_t frame = (first + last) / 2;
+    const human::SkeletonPose& pose = clip.frames[frame];
     sim::set_human_pose(model, data, pose);
     sim::forward(model, data);
     const human::Side side = *plan.active_hand;
-    const Vec3 palm = human::hand_point(model.skeleton, pose, side, human::HandPoint::kPalm);
+    // What the hand shows itself with: either hand, and what the hands hold.
+    std::set<int> held;
+    for (const human::HandLabel& hand : plan.clip.labels[frame].hands) {
+      if (!hand.holding.empty() && model.object_index(hand.holding) >= 0) {
+        held.insert(model.objects[static_cast<size_t>(model.object_index(hand.holding))].body);
+      }
+    }
     const auto own = [&](int geom) {
       const model::GeomTag& tag = model.geom_tags[static_cast<size_t>(geom)];
-      return tag.is_human() && tag.joint == human::wrist(side);
+      return (tag.is_human() && tag.region == human::BodyRegion::kHand) || held.count(root_body(m, geom)) != 0;
     };
+    // Seen when its palm, wrist or index fingertip is.
     std::string why;
-    if (!visible(model, data, palm, own, why)) {
+    bool seen = false;
+    for (const human::HandPoint point : {human::HandPoint::kPalm, human::HandPoint::kWrist, human::HandPoint::kIndexTip}) {
+      std::string why_point;
+      seen = seen || visible(model, data, human::hand_point(model.skeleton, pose, side, point), own, why_point);
+      if (why.empty()) why = why_point;
+    }
+    if (!seen) {
       sim::reset(model, data);
       return FilterOutcome::Fail(fmt::format("the cue hand of {} ({}) is not visible in agentview: {}",
                                              spec.acts[plan.act].name, act.cue->at, why));

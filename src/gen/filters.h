@@ -21,9 +21,10 @@
 //                other object), a hand stays inside its zone slower than kLabelStillSpeed, an
 //                intruding hand enters the workspace box kWorkspace;
 //   visibility   in `agentview` (robot at home, objects at their start, the human in the middle
-//                of each cue's phase) the cue hand's palm and every key object (named by robot
-//                goals or success; not those that start inside a container) project inside
-//                the image and are not occluded (mj_ray);
+//                of each cue's phase) the cue hand (its palm, wrist or index tip; the other
+//                hand and what the hands hold count as the hand) and every key object (named
+//                by robot goals or success; not those that start inside a container) project
+//                inside the image and are not occluded (mj_ray);
 //   executable   the reference policy (default "oracle"; "none" skips the filter) succeeds in
 //                a full episode (eval::run_episode with eval::ScriptDriver; success = CSR).
 //
