@@ -21,7 +21,9 @@ constexpr double kHoldingWidth = 0.004;   // m: an opening above this with the g
 constexpr double kReachedDistance = 0.008;  // m: a segment's end counts as reached
 constexpr double kCloseTime = 0.6;        // s to close on an object
 constexpr double kOpenTime = 0.5;         // s to open
-constexpr double kPalmDistance = 0.08;    // m: palm centre beyond the wrist along the forearm
+constexpr double kPalmDistance = 0.08;
+constexpr double kHousingClearance = -0.03;  // m: TCP vs a container top (housing 0.044 above)
+constexpr double kYieldSpeed = 0.6;         // m/s backing off from a disruption    // m: palm centre beyond the wrist along the forearm
 
 bool is_container(const std::string& kind) { return kind == "bin" || kind == "tray" || kind == "box"; }
 
@@ -167,6 +169,18 @@ bool ExpertPolicy::seen(const std::string& event) const {
   return std::find(events_.begin(), events_.end(), event) != events_.end();
 }
 
+bool ExpertPolicy::disruption_running() const {
+  for (const auto& entry : episode_->acts) {
+    // Stop gestures (I4) are disruptions too, obeyed by standing still, not by backing off.
+    const bool stop = entry.value.cue && entry.value.cue->kind == "stop";
+    if (entry.value.actor == "human" && entry.value.disruption && !stop && seen(entry.name + ".start") &&
+        !seen(entry.name + ".end")) {
+      return true;
+    }
+  }
+  return false;
+}
+
 bool ExpertPolicy::step_done(size_t i) const {
   const PlanStep& step = plan_[i];
   if (internal_done_[i]) return true;
@@ -190,6 +204,12 @@ bool ExpertPolicy::step_dropped(size_t i) const {
 void ExpertPolicy::set_phase(int phase, double time) {
   phase_ = phase;
   phase_start_ = time;
+}
+
+void ExpertPolicy::restart_approach() {
+  // Descending (1) or lowering (11) restart from above the grasp (0) or the target (10).
+  if (phase_ == 1) phase_ = 0;
+  if (phase_ == 11) phase_ = 10;
 }
 
 void ExpertPolicy::begin_step(size_t i, const World& world) {
@@ -247,7 +267,18 @@ ActionChunk ExpertPolicy::act(const Observation& observation) {
     if (!step.after.empty() && !seen(step.after)) hold = true;
     if (!step.pause_on.empty() && seen(step.pause_on)) hold = true;
   }
-  if (hold) {
+  const bool yielding = competence_ == Competence::kOracle && disruption_running();
+  if (yielding) {
+    restart_approach();
+    // Yield to an intruding person: back off toward the robot's side of the table and wait.
+    // Straight up first when low (the fingers may be around an object), then back.
+    const Vec3 tcp = world.X_WT.translation;
+    target_.translation = tcp.z() < kYieldZ - 0.03
+                              ? Vec3(tcp.x(), tcp.y(), kYieldZ)
+                              : Vec3(std::min(tcp.x(), kYieldX), std::clamp(tcp.y(), -0.35, 0.35),
+                                     std::max(tcp.z(), kYieldZ));
+    speed_ = kYieldSpeed;
+  } else if (hold) {
     // Stop where the robot is, the gripper as commanded.
     if (!holding_) {
       reference_ = world.X_WT.translation;
@@ -263,7 +294,8 @@ ActionChunk ExpertPolicy::act(const Observation& observation) {
 
   holding_ = hold;
   Vec3 retreat = Vec3::Zero();
-  const double scale = separation_scale(world, retreat);
+  const double scale = yielding ? 1.0 : separation_scale(world, retreat);
+  if (retreat.norm() > 0) restart_approach();
   return ActionChunk{ActionSpace::kEeDelta, {motion_action(world, scale, retreat)}};
 }
 
@@ -348,7 +380,8 @@ void ExpertPolicy::run_pick(const World& world, const std::string& object, bool 
       gripper_ = 1.0;
       speed_ = kFineSpeed * 1.5;
       target_.translation = grasp;
-      if ((tcp - grasp).norm() < kReachedDistance / 2 || elapsed > 3.0) {
+      if ((tcp - grasp).norm() < kReachedDistance / 2 ||
+          (elapsed > 3.0 && (tcp - grasp).norm() < 2 * kReachedDistance)) {
         if (close) set_phase(2, world.time);
       }
       break;
@@ -404,6 +437,7 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
   Vec3 place_xy;
   double surface = kTableZ;
   double gap = 0.008;
+  double container_top = -1;
   if (step.kind == StepKind::kPutBack) {
     place_xy = start_positions_[k];
   } else {
@@ -414,6 +448,7 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
     place_xy = origin;
     const ObjectGeometry& cg = objects_[c];
     if (is_container(cg.kind)) {
+      container_top = origin.z() + 2 * cg.half_extents.z();
       surface = origin.z() + 0.008;
       gap = 0.015;
     } else {
@@ -448,7 +483,10 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
     case 11: {  // lower onto the surface
       gripper_ = 0.0;
       speed_ = kFineSpeed;
-      const Vec3 down(over.x(), over.y(), surface + gap + offset.z());
+      // Into a container only as far as the hand housing stays above its walls.
+      double down_z = surface + gap + offset.z();
+      if (container_top > 0) down_z = std::max(down_z, container_top + kHousingClearance);
+      const Vec3 down(over.x(), over.y(), down_z);
       target_.translation = down;
       if (step.kind == StepKind::kHover) {
         if ((tcp - down).norm() < 2 * kReachedDistance) internal_done_[current_] = 1;
@@ -536,22 +574,34 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
     const StepKind kind = plan_[current_].kind;
     if (kind == StepKind::kOffer || kind == StepKind::kRelease || kind == StepKind::kApproach) return 1.0;
   }
-  // Robot points: the TCP, the hand housing, the wrist above it.
+  // Robot points: the TCP, the hand housing, the wrist and forearm above it.
   const Vec3 tcp = world.X_WT.translation;
   const Vec3 up = world.X_WT.rotation * Vec3(0, 0, -1);
-  const std::array<Vec3, 3> robot = {tcp, tcp + 0.08 * up, tcp + 0.2 * up};
+  const std::array<Vec3, 4> robot = {tcp, tcp + 0.08 * up, tcp + 0.2 * up, tcp + 0.32 * up};
+  // Human body segments (joint to joint, the palm beyond the wrist) with their radii beyond
+  // an arm's (the distances below are for arm segments).
   using human::Joint;
-  const std::array<std::array<Joint, 2>, 2> arms = {
-      std::array<Joint, 2>{Joint::kLeftElbow, Joint::kLeftWrist},
-      std::array<Joint, 2>{Joint::kRightElbow, Joint::kRightWrist}};
+  struct Segment {
+    Vec3 a, b;
+    double extra = 0;
+  };
+  const auto joint = [&](Joint j) { return world.joints[static_cast<size_t>(human::index(j))]; };
+  const std::array<Segment, 9> body = {
+      Segment{joint(Joint::kLeftElbow), world.palm(0), 0},
+      Segment{joint(Joint::kRightElbow), world.palm(1), 0},
+      Segment{joint(Joint::kLeftShoulder), joint(Joint::kLeftElbow), 0},
+      Segment{joint(Joint::kRightShoulder), joint(Joint::kRightElbow), 0},
+      Segment{joint(Joint::kNeck), joint(Joint::kHead), 0.06},
+      Segment{joint(Joint::kHead), joint(Joint::kHead) + Vec3(0, 0, 0.1), 0.06},
+      Segment{joint(Joint::kSpine3), joint(Joint::kNeck), 0.08},
+      Segment{joint(Joint::kSpine1), joint(Joint::kSpine3), 0.08},
+      Segment{joint(Joint::kLeftShoulder), joint(Joint::kRightShoulder), 0.02}};
   double best = 1e9;
   Vec3 away = Vec3::Zero();
-  for (int side = 0; side < 2; ++side) {
-    const Vec3 elbow = world.joints[static_cast<size_t>(human::index(arms[static_cast<size_t>(side)][0]))];
-    const Vec3 palm = world.palm(side);
+  for (const Segment& segment : body) {
     for (const Vec3& p : robot) {
       Vec3 closest;
-      const double d = segment_distance(p, elbow, palm, closest);
+      const double d = segment_distance(p, segment.a, segment.b, closest) - segment.extra;
       if (d < best) {
         best = d;
         away = p - closest;
@@ -583,7 +633,7 @@ Action ExpertPolicy::motion_action(const World& world, double scale, const Vec3&
     if (distance > 1e-6) desired = to_go / distance * std::min(v, distance / dt);
   }
   // Acceleration-limited velocity of the reference point.
-  velocity_ += clamp_norm(desired - velocity_, kAcceleration * dt * (retreat.norm() > 0 ? 3 : 1));
+  velocity_ += clamp_norm(desired - velocity_, kAcceleration * dt * (retreat.norm() > 0 || speed_ > kMaxSpeed ? 3 : 1));
   if (speed_ == 0 && retreat.norm() == 0) velocity_ = Vec3::Zero();
   reference_ += velocity_ * dt;
   // The reference never runs far ahead of the TCP (no wind-up when blocked).

@@ -13,7 +13,8 @@
 //              says for the competence);
 //   oracle,
 //   reactive — a "stop" cue halts the robot (held pose) until the next "go" cue;
-//   oracle   — speed-and-separation monitoring against the human arms (slow below
+//   oracle   — yields while a disruption act runs (backs off toward its own side of the table);
+//              speed-and-separation monitoring against the human arms (slow below
 //              kSlowDistance, stop below kStopDistance, back off below kRetreatDistance,
 //              resume when clear), except in handover steps; re-plans grasps and placements
 //              from the live object poses (the baselines keep the pose seen when the step
@@ -42,6 +43,9 @@ inline constexpr double kSlowDistance = 0.60;
 inline constexpr double kStopDistance = 0.42;
 inline constexpr double kRetreatDistance = 0.34;
 inline constexpr double kResumeDistance = 0.48;
+// Where the oracle yields while a disruption act runs: TCP x at most kYieldX, z at least kYieldZ.
+inline constexpr double kYieldX = 0.30;
+inline constexpr double kYieldZ = 1.0;
 
 class ExpertPolicy : public Policy {
  public:
@@ -68,6 +72,7 @@ class ExpertPolicy : public Policy {
   void update_events(const Observation& observation);
   bool seen(const std::string& event) const;
   bool step_done(size_t i) const;
+  bool disruption_running() const;  // a disruption act has started and not ended
   bool step_dropped(size_t i) const;
   void begin_step(size_t i, const World& world);
   // The manipulation skill of the current step: sets target_ (TCP pose), speed_ and gripper_.
@@ -77,6 +82,7 @@ class ExpertPolicy : public Policy {
   void run_home(const World& world);
   void run_handover(const World& world, const PlanStep& step);
   void set_phase(int phase, double time);
+  void restart_approach();  // after backing off: approach the grasp / target from above again
   double separation_scale(const World& world, core::Vec3& retreat) const;
   Action motion_action(const World& world, double scale, const core::Vec3& retreat);
 
