@@ -1,6 +1,14 @@
 #include "eval/script_contract.h"
 
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
 #include "core/errors.h"
+#include "human/skeleton.h"
+#include "sim/control.h"
+#include "sim/data.h"
 
 namespace hribench::eval {
 namespace {
@@ -10,6 +18,103 @@ CueKind cue_kind(const std::string& kind, const std::string& act) {
   if (kind == "stop") return CueKind::kStop;
   if (kind == "intrusion") return CueKind::kIntrusion;
   throw core::InputError("act " + act + ": cue kind", "go, stop or intrusion", "'" + kind + "'");
+}
+
+// Where things are at the episode start (world, m).
+struct StartPositions {
+  std::vector<std::optional<core::Vec3>> objects;  // per graph object: centre
+  std::array<core::Vec3, 2> palms;                 // left, right
+  core::Vec3 home = core::Vec3::Zero();            // TCP
+};
+
+StartPositions start_positions(const script::ActGraph& graph, const model::Model& model) {
+  StartPositions p;
+  for (const std::string& name : graph.objects) {
+    const int o = model.object_index(name);
+    const int platform = model.platform_index(name);
+    if (o >= 0) {
+      const model::ObjectInfo& info = model.objects[static_cast<size_t>(o)];
+      core::Pose X_BC;
+      X_BC.translation = core::Vec3(0, 0, info.half_extents.z());
+      p.objects.push_back((info.X_W_start * X_BC).translation);
+    } else if (platform >= 0) {
+      p.objects.push_back(model.platforms[static_cast<size_t>(platform)].X_WC.translation);
+    } else {
+      p.objects.push_back(std::nullopt);
+    }
+  }
+  sim::Data data = sim::make_data(model);
+  sim::reset(model, data);
+  p.home = sim::tcp_pose(model, data).translation;
+  p.palms.fill(core::Vec3::Zero());
+  if (model.has_human) {
+    const auto X_WJ = human::forward_kinematics(model.skeleton, model.human_start);
+    for (const human::Side side : {human::Side::kLeft, human::Side::kRight}) {
+      const size_t s = static_cast<size_t>(side);
+      p.palms[s] = (X_WJ[static_cast<size_t>(human::index(human::wrist(side)))] * model.X_wrist_palm[s]).translation;
+    }
+  }
+  return p;
+}
+
+// Positive atoms of a predicate (outside any `not`), in order.
+void positive_atoms(const script::Predicate& p, std::vector<const script::Predicate*>& out) {
+  if (p.atom == script::Atom::kNot) return;
+  if (p.atom == script::Atom::kAnd || p.atom == script::Atom::kOr) {
+    for (const script::Predicate& child : p.children) positive_atoms(child, out);
+    return;
+  }
+  out.push_back(&p);
+}
+
+std::optional<core::Vec3> position(const script::Arg& a, const StartPositions& at) {
+  if (a.kind == script::Arg::Kind::kObject) return at.objects.at(static_cast<size_t>(a.index));
+  if (a.kind == script::Arg::Kind::kHand) return at.palms.at(static_cast<size_t>(a.index));
+  return std::nullopt;
+}
+
+// The goal position of a robot act's goal (see the header), given the objects earlier robot
+// acts grasp.
+std::optional<core::Vec3> goal_position(const script::Predicate& goal, const StartPositions& at,
+                                        const std::set<int>& carried) {
+  using script::Arg;
+  using script::Atom;
+  std::vector<const script::Predicate*> atoms;
+  positive_atoms(goal, atoms);
+  const auto is_carried = [&](const Arg& a) { return a.kind == Arg::Kind::kObject && carried.count(a.index) > 0; };
+  for (const script::Predicate* p : atoms) {
+    if (p->atom != Atom::kIn && p->atom != Atom::kOn) continue;
+    if (!is_carried(p->args[0])) return position(p->args[0], at);
+    return position(p->args[1], at);
+  }
+  for (const script::Predicate* p : atoms) {
+    if (p->atom != Atom::kNear) continue;
+    for (const Arg& a : {p->args[0], p->args[1]}) {
+      if (a.kind != Arg::Kind::kRobot && !is_carried(a)) return position(a, at);
+    }
+  }
+  for (const script::Predicate* p : atoms) {
+    if (p->atom == Atom::kAtHome) return at.home;
+  }
+  if (goal.atom == Atom::kGrasped) return position(goal.args[1], at);
+  return std::nullopt;
+}
+
+// Capsule names of a "SIDE.REGION" human part.
+std::vector<std::string> human_parts(const std::string& part, const std::string& where) {
+  const size_t dot = part.find('.');
+  const std::string side = part.substr(0, dot);
+  const std::string region = dot == std::string::npos ? "" : part.substr(dot + 1);
+  std::vector<std::string> names;
+  for (const human::BodyCapsule& c : human::body_capsules(human::Skeleton::FromHeight(1.75))) {
+    const std::string name(c.name);
+    if (human::to_string(c.region) != region) continue;
+    const bool left = name.rfind("left_", 0) == 0, right = name.rfind("right_", 0) == 0;
+    if ((side == "left" && right) || (side == "right" && left)) continue;
+    names.push_back(name);
+  }
+  if (names.empty()) throw core::InputError(where, "SIDE.REGION naming body capsules", "'" + part + "'");
+  return names;
 }
 
 }  // namespace
@@ -49,6 +154,88 @@ ScenarioContract contract_from_act_graph(const script::ActGraph& graph) {
       contract.syncs.push_back({act.name, name(c.sync_with), act.name + ".end", c.sync_offset,
                                 c.sync_tolerance});
     }
+  }
+  return contract;
+}
+
+ScenarioContract contract_from_episode(const script::EpisodeSpec& spec,
+                                       const script::ActGraph& graph, const model::Model& model) {
+  ScenarioContract contract = contract_from_act_graph(graph);
+  const auto name = [&](int event) { return graph.event_names.at(static_cast<size_t>(event)); };
+  // Goal positions of robot acts, in order (contract.robot_acts follows graph.acts order).
+  const StartPositions at = start_positions(graph, model);
+  std::set<int> carried;
+  size_t r = 0;
+  bool first = true;
+  for (const script::CompiledAct& act : graph.acts) {
+    if (act.human) continue;
+    RobotActContract& out = contract.robot_acts.at(r++);
+    if (act.goal >= 0) {
+      const script::Predicate& goal = graph.predicates.at(static_cast<size_t>(act.goal)).root;
+      out.goal_W = goal_position(goal, at, carried);
+      std::vector<const script::Predicate*> atoms;
+      positive_atoms(goal, atoms);
+      for (const script::Predicate* p : atoms) {
+        if (p->atom == script::Atom::kGrasped && p->args[1].kind == script::Arg::Kind::kObject) {
+          carried.insert(p->args[1].index);
+        }
+      }
+    }
+    // Waits: the first act's `after` is where the robot may start; a later act's `after`
+    // event of a human act is a wait from that act's start.
+    const int after = act.constraints.after;
+    if (after >= 0) {
+      const std::string event = name(after);
+      if (first) {
+        contract.allowed_from = event;
+      } else {
+        const std::string owner = event.substr(0, event.find('.'));
+        for (const script::CompiledAct& h : graph.acts) {
+          if (h.human && h.name == owner && h.start_event >= 0 && h.start_event != after) {
+            contract.robot_waits.push_back({name(h.start_event), event});
+          }
+        }
+      }
+    }
+    if (act.constraints.still_from >= 0) {
+      contract.robot_waits.push_back({name(act.constraints.still_from),
+                                      act.constraints.still_to >= 0 ? name(act.constraints.still_to) : ""});
+    }
+    first = false;
+  }
+  // Go cues: the goal of the act that answers them.
+  for (CueContract& cue : contract.cues) {
+    if (cue.kind != CueKind::kGo) continue;
+    for (size_t i = 0, k = 0; i < graph.acts.size(); ++i) {
+      if (graph.acts[i].human) continue;
+      const RobotActContract& robot = contract.robot_acts.at(k++);
+      const script::RobotConstraints& rc = graph.acts[i].constraints;
+      const bool answers = cue.name == robot.name || (rc.after >= 0 && name(rc.after) == cue.event) ||
+                           (rc.sync_with >= 0 && name(rc.sync_with) == cue.event);
+      if (answers) {
+        cue.goal_W = robot.goal_W;
+        break;
+      }
+    }
+  }
+  // Human waits: phases the act's `until` holds open.
+  for (const script::CompiledAct& act : graph.acts) {
+    if (!act.human || act.until < 0) continue;
+    for (size_t k = 0; k < act.phases.size(); ++k) {
+      if (!act.phases[k].waits || act.phases[k].event < 0) continue;
+      const int next = k + 1 < act.phases.size() ? act.phases[k + 1].event : act.end_event;
+      contract.human_waits.push_back({name(act.phases[k].event), next >= 0 ? name(next) : ""});
+    }
+  }
+  // Permitted contacts.
+  for (size_t i = 0; i < spec.safety.contact_permitted.size(); ++i) {
+    const script::ContactPermit& permit = spec.safety.contact_permitted[i];
+    const std::string where = "safety.contact_permitted[" + std::to_string(i) + "].human";
+    PermittedContact p;
+    p.fingers_only = permit.robot.value() == "fingers";
+    p.human_parts = human_parts(permit.human.value(), where);
+    p.phase = {permit.from, permit.to};
+    contract.permitted_contacts.push_back(std::move(p));
   }
   return contract;
 }

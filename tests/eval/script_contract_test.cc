@@ -3,6 +3,11 @@
 #include <gtest/gtest.h>
 
 #include "core/errors.h"
+#include "eval/script_driver.h"
+#include "model/model.h"
+#include "script/check.h"
+#include "script/sample.h"
+#include "support/mujoco_fixture.h"
 
 namespace hribench::eval {
 namespace {
@@ -71,6 +76,132 @@ TEST(ScriptContract, UnknownCueKindIsAnInputError) {
     FAIL();
   } catch (const core::InputError& e) {
     EXPECT_STREQ(e.what(), "act offer: cue kind: expected go, stop or intrusion, got 'wave'");
+  }
+}
+
+// A sampled task with its graph and model.
+struct Task {
+  script::EpisodeSpec spec;
+  script::ActGraph graph;
+  model::Model model;
+  explicit Task(const std::string& path, uint64_t seed = 1)
+      : spec(script::sample(script::load_scenario(path), seed)),
+        graph(script::compile(spec)),
+        model(model::build(scene_spec_from_episode(spec))) {}
+  // Centre of an object at the start, from the spec (footprint) and the model (height).
+  core::Vec3 centre(const std::string& name) const {
+    const model::ObjectInfo& o = model.objects.at(static_cast<size_t>(model.object_index(name)));
+    return o.X_W_start.translation + core::Vec3(0, 0, o.half_extents.z());
+  }
+};
+
+using ScriptContractEpisode = hribench::testing::MujocoTest;
+
+const RobotActContract& act(const ScenarioContract& c, const std::string& name) {
+  for (const RobotActContract& a : c.robot_acts) {
+    if (a.name == name) return a;
+  }
+  throw std::runtime_error("no robot act " + name);
+}
+
+void expect_at(const std::optional<core::Vec3>& got, const core::Vec3& want, const std::string& what) {
+  ASSERT_TRUE(got.has_value()) << what;
+  EXPECT_LT((*got - want).norm(), 1e-9) << what << ": " << got->transpose() << " vs " << want.transpose();
+}
+
+// C1: fetch-like goals go to the item, a carried item's goal to its container; the hold the
+// person keeps until the robot has the item is a human wait; fingers may touch the giving hand.
+TEST_F(ScriptContractEpisode, HandoverGoalsWaitsAndPermittedContact) {
+  const Task t("tasks/C1_handover_h2r.yaml");
+  const ScenarioContract c = contract_from_episode(t.spec, t.graph, t.model);
+  expect_at(act(c, "approach").goal_W, t.centre("item"), "approach");
+  expect_at(act(c, "take").goal_W, t.centre("item"), "take");
+  expect_at(act(c, "place").goal_W, t.centre("bin"), "place");
+  EXPECT_EQ(c.allowed_from, "offer.start");
+  ASSERT_EQ(c.robot_waits.size(), 2u);
+  EXPECT_EQ(c.robot_waits[0].from, "offer.start");
+  EXPECT_EQ(c.robot_waits[0].to, "offer.hold");
+  EXPECT_EQ(c.robot_waits[1].to, "offer.release");
+  ASSERT_EQ(c.human_waits.size(), 1u);
+  EXPECT_EQ(c.human_waits[0].from, "offer.hold_stable");
+  EXPECT_EQ(c.human_waits[0].to, "offer.release");
+  ASSERT_EQ(c.permitted_contacts.size(), 1u);
+  const PermittedContact& p = c.permitted_contacts[0];
+  EXPECT_TRUE(p.fingers_only);
+  const std::string hand = t.spec.vars[0].value.expr.text + "_hand";
+  EXPECT_EQ(p.human_parts, std::vector<std::string>{hand});
+  EXPECT_EQ(p.phase.from, "offer.hold_stable");
+  EXPECT_EQ(p.phase.to, "offer.retract");
+  // The go cue's goal: that of the act synchronised with it (take).
+  ASSERT_EQ(c.cues.size(), 1u);
+  EXPECT_EQ(c.cues[0].event, "offer.hold_stable");
+  expect_at(c.cues[0].goal_W, t.centre("item"), "cue");
+}
+
+// I1: the robot may start at the point's stroke; the go cue and the put go to the target
+// object first (it is not carried yet), not to the bin.
+TEST_F(ScriptContractEpisode, PointPickGoesToTheTargetFirst) {
+  const Task t("tasks/I1_point_pick.yaml");
+  const ScenarioContract c = contract_from_episode(t.spec, t.graph, t.model);
+  std::string target;
+  for (const auto& v : t.spec.vars) {
+    if (v.name == "target") target = v.value.expr.text;
+  }
+  ASSERT_FALSE(target.empty());
+  expect_at(act(c, "put").goal_W, t.centre(target), "put");
+  EXPECT_EQ(c.allowed_from, "point.stroke");
+  ASSERT_FALSE(c.cues.empty());
+  for (const CueContract& cue : c.cues) expect_at(cue.goal_W, t.centre(target), "cue " + cue.name);
+  EXPECT_TRUE(c.robot_waits.empty());
+  EXPECT_TRUE(c.permitted_contacts.empty());
+}
+
+// I4 with a stop: the stop's still interval is a robot wait; C4: platforms are goals.
+TEST_F(ScriptContractEpisode, StopIsARobotWaitAndPlatformsAreGoals) {
+  for (uint64_t seed = 1; seed < 20; ++seed) {
+    const Task t("tasks/I4_stop_go.yaml", seed);
+    if (t.spec.variant != "with_stop") continue;
+    const ScenarioContract c = contract_from_episode(t.spec, t.graph, t.model);
+    ASSERT_EQ(c.robot_waits.size(), 1u);
+    EXPECT_EQ(c.robot_waits[0].from, "halt.hold");
+    EXPECT_EQ(c.robot_waits[0].to, "go_again.gesture");
+    EXPECT_EQ(c.allowed_from, "go.gesture");
+    expect_at(act(c, "place").goal_W, t.centre("cube"), "place");
+    break;
+  }
+  const Task lift("tasks/C4_co_lift.yaml");
+  const ScenarioContract c = contract_from_episode(lift.spec, lift.graph, lift.model);
+  expect_at(act(c, "hold_end").goal_W, lift.centre("plank"), "hold_end");
+  EXPECT_FALSE(act(c, "lift_end").goal_W.has_value());
+  const model::PlatformInfo& platform = lift.model.platforms.at(static_cast<size_t>(lift.model.platform_index("platform")));
+  expect_at(act(c, "follow").goal_W, platform.X_WC.translation, "follow");
+  expect_at(act(c, "lower_end").goal_W, platform.X_WC.translation, "lower_end");
+}
+
+// X4: the blocked plate is a robot wait from the blocking act's start to its retract.
+TEST_F(ScriptContractEpisode, BlockedTargetIsARobotWait) {
+  for (uint64_t seed = 1; seed < 20; ++seed) {
+    const Task t("tasks/X4_blocked_target.yaml", seed);
+    if (t.spec.variant != "hand_block") continue;
+    const ScenarioContract c = contract_from_episode(t.spec, t.graph, t.model);
+    ASSERT_EQ(c.robot_waits.size(), 1u);
+    EXPECT_EQ(c.robot_waits[0].from, "block.start");
+    EXPECT_EQ(c.robot_waits[0].to, "block.retract");
+    expect_at(act(c, "carry").goal_W, t.centre("plate"), "carry");
+    expect_at(act(c, "place").goal_W, t.centre("plate"), "place");
+    return;
+  }
+  FAIL() << "no hand_block variant in 19 seeds";
+}
+
+TEST_F(ScriptContractEpisode, UnknownHumanPartIsAnInputError) {
+  Task t("tasks/C1_handover_h2r.yaml");
+  t.spec.safety.contact_permitted[0].human = script::Text("right.tail");
+  try {
+    contract_from_episode(t.spec, t.graph, t.model);
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "safety.contact_permitted[0].human: expected SIDE.REGION naming body capsules, got 'right.tail'");
   }
 }
 
