@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include "core/errors.h"
+#include "eval/metrics.h"
+#include "eval/runner.h"
 #include "eval/script_driver.h"
+#include "policy/builtin.h"
 #include "model/model.h"
 #include "script/check.h"
 #include "script/sample.h"
@@ -192,6 +195,31 @@ TEST_F(ScriptContractEpisode, BlockedTargetIsARobotWait) {
     return;
   }
   FAIL() << "no hand_block variant in 19 seeds";
+}
+
+// The metrics score a driven episode with this contract: CIR reads the driver's intent and
+// contradicted series of an I5 contradiction episode.
+TEST_F(ScriptContractEpisode, MetricsScoreADrivenContradictionEpisode) {
+  for (uint64_t seed = 1; seed < 20; ++seed) {
+    const Task t("tasks/I5_contradiction.yaml", seed);
+    if (t.spec.variant == "control") continue;
+    const ScenarioContract c = contract_from_episode(t.spec, t.graph, t.model);
+    ASSERT_TRUE(c.contradiction);
+    sim::Data data = sim::make_data(t.model);
+    ScriptDriver driver(t.spec);
+    policy::NoopPolicy noop;
+    RunOptions options;
+    options.horizon = 2.0;
+    EpisodeSetup setup;
+    setup.task = t.spec.task;
+    setup.policy = "noop";
+    const EpisodeLog log = run_episode(t.model, data, noop, driver, setup, options);
+    ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
+    const EpisodeMetrics m = compute_metrics(c, log, MetricConstants{});
+    EXPECT_TRUE(m.cir.has_value());
+    return;
+  }
+  FAIL() << "no contradiction variant in 19 seeds";
 }
 
 TEST_F(ScriptContractEpisode, UnknownHumanPartIsAnInputError) {
