@@ -198,6 +198,7 @@ int run_eval(const EvalOptions& o) {
                {"latency", eval::to_string(latency)},
                {"horizon", o.horizon > 0 ? nlohmann::json(o.horizon) : nlohmann::json("script")}};
   } else {
+    if (o.split != "eval") throw core::InputError::Message("--split", "needs --pool (a pool's split)");
     const std::vector<std::string> task_files = gen::resolve_task_scripts(o.tasks);
     for (const std::string& file : task_files) {
       const script::Scenario scenario = script::load_scenario(file);

@@ -104,6 +104,9 @@ TEST_F(GenerateCommandTest, EvalPoolRefusesSamplingFlagsAndUnknownSplits) {
   r = run_hribench("eval --pool " + dir_ + " --split train --policy noop --out " + out);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("--split: expected adapt, eval or test, got 'train'"), std::string::npos) << r.output;
+  r = run_hribench("eval --tasks I1 --split adapt --policy noop --out " + out);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--split: needs --pool (a pool's split)"), std::string::npos) << r.output;
   r = run_hribench("eval --pool " + out + "_none --policy noop --out " + out);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("holds no pool"), std::string::npos) << r.output;
