@@ -76,12 +76,12 @@ CandidateRecord judge_candidate(const script::Scenario& scenario, const std::str
                                 uint64_t seed, const FilterOptions& filters);
 
 // Runs the whole pipeline and writes the pool. Throws core::InputError, writing nothing, for
-// a script that fails check, an unknown executable_by policy, candidates < splits.total(),
-// bad thread counts, or an OUT that holds another pool (a manifest, or a generation with other
-// options; a generation with the same options only with `resume`); after judging, throws
-// core::InputError naming each task that has too few validated episodes and how many are
-// missing (OUT then holds candidates.jsonl only, so --resume with more candidates is not
-// possible: start again with a larger --candidates in a new folder).
+// a script that fails check, an unknown executable_by policy, candidates < splits.total()
+// (naming how many are missing), a bad thread count, or an OUT that holds another pool (a
+// manifest, or an unfinished generation with other options, or with the same options without
+// `resume`). After judging, a task with fewer validated episodes than the splits need throws
+// core::InputError naming each such task and how many are missing; OUT then keeps
+// options.json, candidates.jsonl and report.md, and no manifest.
 GenerationReport generate(const GenerateOptions& options);
 
 }  // namespace hribench::gen
