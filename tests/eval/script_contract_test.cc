@@ -100,6 +100,16 @@ struct Task {
 
 using ScriptContractEpisode = hribench::testing::MujocoTest;
 
+// The first seed (from 1) at which a script samples this variant.
+uint64_t seed_with_variant(const std::string& path, const std::string& variant) {
+  const script::Scenario scenario = script::load_scenario(path);
+  for (uint64_t seed = 1; seed < 100; ++seed) {
+    if (script::sample(scenario, seed).variant == variant) return seed;
+  }
+  ADD_FAILURE() << "no " << variant << " in 99 seeds of " << path;
+  return 1;
+}
+
 const RobotActContract& act(const ScenarioContract& c, const std::string& name) {
   for (const RobotActContract& a : c.robot_acts) {
     if (a.name == name) return a;
@@ -161,17 +171,13 @@ TEST_F(ScriptContractEpisode, PointPickGoesToTheTargetFirst) {
 
 // I4 with a stop: the stop's still interval is a robot wait; C4: platforms are goals.
 TEST_F(ScriptContractEpisode, StopIsARobotWaitAndPlatformsAreGoals) {
-  for (uint64_t seed = 1; seed < 20; ++seed) {
-    const Task t("tasks/I4_stop_go.yaml", seed);
-    if (t.spec.variant != "with_stop") continue;
-    const ScenarioContract c = contract_from_episode(t.spec, t.graph, t.model);
-    ASSERT_EQ(c.robot_waits.size(), 1u);
-    EXPECT_EQ(c.robot_waits[0].from, "halt.hold");
-    EXPECT_EQ(c.robot_waits[0].to, "go_again.gesture");
-    EXPECT_EQ(c.allowed_from, "go.gesture");
-    expect_at(act(c, "place").goal_W, t.centre("cube"), "place");
-    break;
-  }
+  const Task t("tasks/I4_stop_go.yaml", seed_with_variant("tasks/I4_stop_go.yaml", "with_stop"));
+  const ScenarioContract stop = contract_from_episode(t.spec, t.graph, t.model);
+  ASSERT_EQ(stop.robot_waits.size(), 1u);
+  EXPECT_EQ(stop.robot_waits[0].from, "halt.hold");
+  EXPECT_EQ(stop.robot_waits[0].to, "go_again.gesture");
+  EXPECT_EQ(stop.allowed_from, "go.gesture");
+  expect_at(act(stop, "place").goal_W, t.centre("cube"), "place");
   const Task lift("tasks/C4_co_lift.yaml");
   const ScenarioContract c = contract_from_episode(lift.spec, lift.graph, lift.model);
   expect_at(act(c, "hold_end").goal_W, lift.centre("plank"), "hold_end");
@@ -183,43 +189,32 @@ TEST_F(ScriptContractEpisode, StopIsARobotWaitAndPlatformsAreGoals) {
 
 // X4: the blocked plate is a robot wait from the blocking act's start to its retract.
 TEST_F(ScriptContractEpisode, BlockedTargetIsARobotWait) {
-  for (uint64_t seed = 1; seed < 20; ++seed) {
-    const Task t("tasks/X4_blocked_target.yaml", seed);
-    if (t.spec.variant != "hand_block") continue;
-    const ScenarioContract c = contract_from_episode(t.spec, t.graph, t.model);
-    ASSERT_EQ(c.robot_waits.size(), 1u);
-    EXPECT_EQ(c.robot_waits[0].from, "block.start");
-    EXPECT_EQ(c.robot_waits[0].to, "block.retract");
-    expect_at(act(c, "carry").goal_W, t.centre("plate"), "carry");
-    expect_at(act(c, "place").goal_W, t.centre("plate"), "place");
-    return;
-  }
-  FAIL() << "no hand_block variant in 19 seeds";
+  const Task t("tasks/X4_blocked_target.yaml", seed_with_variant("tasks/X4_blocked_target.yaml", "hand_block"));
+  const ScenarioContract c = contract_from_episode(t.spec, t.graph, t.model);
+  ASSERT_EQ(c.robot_waits.size(), 1u);
+  EXPECT_EQ(c.robot_waits[0].from, "block.start");
+  EXPECT_EQ(c.robot_waits[0].to, "block.retract");
+  expect_at(act(c, "carry").goal_W, t.centre("plate"), "carry");
+  expect_at(act(c, "place").goal_W, t.centre("plate"), "place");
 }
 
 // The metrics score a driven episode with this contract: CIR reads the driver's intent and
 // contradicted series of an I5 contradiction episode.
 TEST_F(ScriptContractEpisode, MetricsScoreADrivenContradictionEpisode) {
-  for (uint64_t seed = 1; seed < 20; ++seed) {
-    const Task t("tasks/I5_contradiction.yaml", seed);
-    if (t.spec.variant == "control") continue;
-    const ScenarioContract c = contract_from_episode(t.spec, t.graph, t.model);
-    ASSERT_TRUE(c.contradiction);
-    sim::Data data = sim::make_data(t.model);
-    ScriptDriver driver(t.spec);
-    policy::NoopPolicy noop;
-    RunOptions options;
-    options.horizon = 2.0;
-    EpisodeSetup setup;
-    setup.task = t.spec.task;
-    setup.policy = "noop";
-    const EpisodeLog log = run_episode(t.model, data, noop, driver, setup, options);
-    ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
-    const EpisodeMetrics m = compute_metrics(c, log, MetricConstants{});
-    EXPECT_TRUE(m.cir.has_value());
-    return;
-  }
-  FAIL() << "no contradiction variant in 19 seeds";
+  const Task t("tasks/I5_contradiction.yaml", seed_with_variant("tasks/I5_contradiction.yaml", "cancel"));
+  const ScenarioContract c = contract_from_episode(t.spec, t.graph, t.model);
+  ASSERT_TRUE(c.contradiction);
+  sim::Data data = sim::make_data(t.model);
+  ScriptDriver driver(t.spec);
+  policy::NoopPolicy noop;
+  RunOptions options;
+  options.horizon = 2.0;
+  EpisodeSetup setup;
+  setup.task = t.spec.task;
+  setup.policy = "noop";
+  const EpisodeLog log = run_episode(t.model, data, noop, driver, setup, options);
+  ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
+  EXPECT_TRUE(compute_metrics(c, log, MetricConstants{}).cir.has_value());
 }
 
 TEST_F(ScriptContractEpisode, UnknownHumanPartIsAnInputError) {
