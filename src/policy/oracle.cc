@@ -19,8 +19,15 @@ namespace {
 constexpr double kTableZ = model::kTableTopZ;
 constexpr double kHoldingWidth = 0.004;   // m: an opening above this with the gripper closed holds
 constexpr double kReachedDistance = 0.008;  // m: a segment's end counts as reached
-constexpr double kCloseTime = 0.6;        // s to close on an object
+constexpr double kCloseTime = 0.4;        // s of full grip before checking it
 constexpr double kOpenTime = 0.5;         // s to open
+constexpr double kPreshapeTime = 0.3;     // s to pre-shape the fingers before closing
+// Then the commanded width shrinks slowly from kPreshapeGap over the object's width to
+// kSqueezeDepth under it (the fingers meet the object slower than the metrics' "moving"
+// gripper rate, 0.01 m/s), then drops to 0 (full grip force).
+constexpr double kPreshapeGap = 0.004;    // m
+constexpr double kSqueezeRate = 0.009;    // m/s
+constexpr double kSqueezeDepth = 0.006;   // m
 constexpr double kPalmDistance = 0.08;
 constexpr double kHousingClearance = -0.03;  // m: TCP vs a container top (housing 0.044 above)
 constexpr double kYieldSpeed = 0.6;         // m/s backing off from a disruption    // m: palm centre beyond the wrist along the forearm
@@ -32,6 +39,12 @@ double grasp_height(const std::string& kind, const Vec3& half) {
   if (kind == "bottle") return 0.18;   // the neck: the hand housing stays above the top
   if (kind == "cup") return 0.055;
   return half.z();
+}
+
+// Width of an object across the fingers of a top-down grasp (m).
+double grip_width(const std::string& kind, const Vec3& half) {
+  if (kind == "bottle") return 0.028;  // the neck
+  return 2 * std::min(half.x(), half.y());
 }
 
 // Rotation vector of R (axis * angle), angle in [0, pi].
@@ -192,6 +205,8 @@ bool ExpertPolicy::step_done(size_t i) const {
     case StepKind::kRelease:
     case StepKind::kHome:
       return false;  // the skill finishes its retreat / stays
+    case StepKind::kPick:
+      return ended && !(i == current_ && phase_ == 2);  // a grasp being closed is finished
     default:
       return ended;
   }
@@ -218,6 +233,7 @@ void ExpertPolicy::begin_step(size_t i, const World& world) {
   retries_ = 0;
   latched_valid_ = false;
   latched_target_valid_ = false;
+  spot_valid_ = false;
   if (i < plan_.size()) {
     for (size_t k = 0; k < objects_.size(); ++k) {
       if (objects_[k].name == plan_[i].object) {
@@ -267,7 +283,9 @@ ActionChunk ExpertPolicy::act(const Observation& observation) {
     if (!step.after.empty() && !seen(step.after)) hold = true;
     if (!step.pause_on.empty() && seen(step.pause_on)) hold = true;
   }
-  const bool yielding = competence_ == Competence::kOracle && disruption_running();
+  // A grasp being closed is finished first (lifting a half-closed grasp drops the object).
+  const bool closing = phase_ == 2 && current_ < plan_.size();
+  const bool yielding = competence_ == Competence::kOracle && disruption_running() && !closing;
   if (yielding) {
     restart_approach();
     // Yield to an intruding person: back off toward the robot's side of the table and wait.
@@ -386,10 +404,16 @@ void ExpertPolicy::run_pick(const World& world, const std::string& object, bool 
       }
       break;
     case 2:  // close on the object, then check that something is between the fingers
-      gripper_ = 0.0;
+      // Pre-shape just wider than the object, then squeeze: the fingers touch it slowly (the
+      // grasp, which ends an act, is not in the middle of a fast gripper motion).
+      {
+        const double w = grip_width(g.kind, g.half_extents);
+        const double command = w + kPreshapeGap - kSqueezeRate * std::max(0.0, elapsed - kPreshapeTime);
+        gripper_ = command > w - kSqueezeDepth ? std::min(1.0, command / kMaxGripperWidth) : 0.0;
+      }
       speed_ = 0;
       target_.translation = grasp;
-      if (elapsed > kCloseTime) {
+      if (elapsed > kPreshapeTime + (kPreshapeGap + kSqueezeDepth) / kSqueezeRate + kCloseTime) {
         if (world.width > kHoldingWidth) {
           set_phase(3, world.time);
         } else {
@@ -418,7 +442,7 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
                        (centre - tcp).norm() < 0.06 + g.half_extents.z();
   // Not holding it yet (or lost it before the release): pick it first.
   if (phase_ < 10) {
-    if (holding && phase_ >= 3) {
+    if (holding && (phase_ == 0 || phase_ >= 3)) {  // already holding it, or lifting it
       set_phase(10, world.time);
     } else {
       run_pick(world, step.object, true);
@@ -445,8 +469,15 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
     HRIB_CHECK(c < objects_.size()) << step.target;
     Vec3 origin = world.objects[c].translation;
     if (competence_ != Competence::kOracle && latched_target_valid_) origin = latched_target_;
-    place_xy = origin;
     const ObjectGeometry& cg = objects_[c];
+    // A free spot on the target, chosen when the carry begins (the oracle: again each time).
+    if (phase_ == 10 && (!spot_valid_ || world.time == phase_start_)) {
+      Pose X_WC = world.objects[c];
+      X_WC.translation = origin;
+      spot_ = free_spot(world, k, c, X_WC);
+      spot_valid_ = true;
+    }
+    place_xy = spot_valid_ ? spot_ : origin;
     if (is_container(cg.kind)) {
       container_top = origin.z() + 2 * cg.half_extents.z();
       surface = origin.z() + 0.008;
@@ -515,6 +546,44 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
       break;
     }
   }
+}
+
+Vec3 ExpertPolicy::free_spot(const World& world, size_t object, size_t target,
+                             const Pose& X_WC) const {
+  const Vec3& half = objects_[target].half_extents;
+  const Vec3& own = objects_[object].half_extents;
+  const double radius = std::max(own.x(), own.y());
+  const bool container = is_container(objects_[target].kind);
+  // Offsets the object's centre may take from the target's centre (its frame).
+  const double lx = std::max(0.0, container ? half.x() - 0.02 - radius : half.x() - 0.6 * radius - 0.015);
+  const double ly = std::max(0.0, container ? half.y() - 0.02 - radius : half.y() - 0.6 * radius - 0.015);
+  const double lr = container ? 1e9 : 0.075;  // round plates: stay well inside the rim
+  Vec3 best = X_WC.translation;
+  double best_score = -1e9;
+  constexpr int kGrid = 7;
+  for (int i = 0; i < kGrid; ++i) {
+    for (int j = 0; j < kGrid; ++j) {
+      const Vec3 u(lx * (2.0 * i / (kGrid - 1) - 1), ly * (2.0 * j / (kGrid - 1) - 1), 0);
+      if (u.norm() > lr) continue;
+      const Vec3 p = X_WC * u;
+      // Clearance to the other objects standing on or in the target.
+      double clear = 0.03;
+      for (size_t o = 0; o < objects_.size(); ++o) {
+        if (o == object || o == target) continue;
+        const Vec3 q = world.objects[o].translation;
+        const Vec3 local = X_WC.inverse() * q;
+        if (std::abs(local.x()) > half.x() + 0.05 || std::abs(local.y()) > half.y() + 0.05) continue;
+        const double r = std::max(objects_[o].half_extents.x(), objects_[o].half_extents.y());
+        clear = std::min(clear, (p - q).head<2>().norm() - r - radius);
+      }
+      const double score = clear - 0.05 * u.norm();
+      if (score > best_score) {
+        best_score = score;
+        best = p;
+      }
+    }
+  }
+  return best;
 }
 
 void ExpertPolicy::run_home(const World& world) {
@@ -612,6 +681,9 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
     Vec3 dir = away;
     dir.z() = std::max(dir.z(), 0.0);
     retreat = dir.norm() > 1e-6 ? Vec3(dir.normalized()) : Vec3(-1, 0, 0);
+    // Waiting for an event the step must start after: any motion would count as its start
+    // (the contract has no goal positions yet), so the robot holds still.
+    if (holding_) retreat = Vec3::Zero();
     return 0;
   }
   if (best < kStopDistance || (ssm_stopped_ && best < kResumeDistance)) return 0;

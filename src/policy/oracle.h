@@ -80,6 +80,9 @@ class ExpertPolicy : public Policy {
   void run_pick(const World& world, const std::string& object, bool close);
   void run_place(const World& world, const PlanStep& step);
   void run_home(const World& world);
+  // Where to put `object` on/in `target` (pose X_WC): the grid point of the target's footprint
+  // farthest from the objects already there, preferring the centre.
+  core::Vec3 free_spot(const World& world, size_t object, size_t target, const core::Pose& X_WC) const;
   void run_handover(const World& world, const PlanStep& step);
   void set_phase(int phase, double time);
   void restart_approach();  // after backing off: approach the grasp / target from above again
@@ -107,6 +110,8 @@ class ExpertPolicy : public Policy {
   bool latched_valid_ = false;
   core::Vec3 latched_target_ = core::Vec3::Zero();  // the target object's pose then
   bool latched_target_valid_ = false;
+  core::Vec3 spot_ = core::Vec3::Zero();  // the chosen placing spot (centre of the object)
+  bool spot_valid_ = false;
   double control_dt_ = 0.05;
   core::Pose target_;
   double speed_ = kMaxSpeed;
