@@ -51,6 +51,19 @@ core::Pose object_centre_pose(const model::Model& model, const sim::Data& data, 
 
 const human::Joint kWrist[2] = {human::Joint::kLeftWrist, human::Joint::kRightWrist};
 
+const human::Joint kLegs[] = {human::Joint::kLeftHip,   human::Joint::kRightHip,  human::Joint::kLeftKnee,
+                              human::Joint::kRightKnee, human::Joint::kLeftAnkle, human::Joint::kRightAnkle,
+                              human::Joint::kLeftFoot,  human::Joint::kRightFoot};
+
+// Whether a plan moves the body's root: a walking segment or a stand frame that moves.
+bool moves_root(const human::MotionPlan& plan) {
+  const core::Vec3 start = plan.key_at(0).X_WF.translation;
+  for (const human::Segment& segment : plan.segments()) {
+    if (segment.walking || (segment.end.X_WF.translation - start).norm() > 0.01) return true;
+  }
+  return false;
+}
+
 // A hand takes an object the way its kind is held: a box by its lid (hold_lid), a plank by
 // the point under the palm (both hands at one end), anything else whole.
 void grasp(const model::Model& model, sim::Data& data, human::Side side, int object) {
@@ -287,6 +300,23 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
   const ActMotion& body = motions_[static_cast<size_t>(active_)];
   if (!body.plan) return;
   human::SkeletonPose pose = body.plan->pose_at(data.time() - body.start, body.signals);
+  // A walk that an act started mid-way keeps going: the root and the legs follow the latest
+  // started act that moves the root while its plan runs (the upper body rides along).
+  int walker = -1;
+  for (size_t i = 0; i < motions_.size(); ++i) {
+    const ActMotion& m = motions_[i];
+    if (!m.plan || !m.moves_root || runtime_.acts[i].status != script::ActStatus::kRunning ||
+        data.time() - m.start >= m.plan->end_time(m.signals)) {
+      continue;
+    }
+    if (walker < 0 || m.start >= motions_[static_cast<size_t>(walker)].start) walker = static_cast<int>(i);
+  }
+  if (walker >= 0 && walker != active_) {
+    const ActMotion& m = motions_[static_cast<size_t>(walker)];
+    const human::SkeletonPose walk = m.plan->pose_at(data.time() - m.start, m.signals);
+    pose.X_WP = walk.X_WP;
+    for (const human::Joint j : kLegs) pose.local[static_cast<size_t>(human::index(j))] = walk.local[static_cast<size_t>(human::index(j))];
+  }
   // Each hand follows the latest started act that moves it (a person holding a lid with one
   // hand while the other points); the rest of the body the latest started act.
   std::array<human::FrameLabel, 2> labels;
@@ -403,6 +433,7 @@ void ScriptDriver::start_plan(const model::Model& model, const sim::Data& data, 
   motion.plan.emplace(human::plan_motion(model.skeleton, data.human_pose,
                                          primitive_params(spec_, act, centre)));
   for (size_t h = 0; h < 2; ++h) motion.moves[h] = moves_hand(*motion.plan, h);
+  motion.moves_root = moves_root(*motion.plan);
   // Waiting phases the runtime does not hold open end at their nominal time.
   const script::CompiledAct& compiled = graph_.acts[act];
   for (const human::Segment& segment : motion.plan->segments()) {

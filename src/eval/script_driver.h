@@ -9,7 +9,9 @@
 // into the log. Each physics step (drive): poses the body from the most recently started act's
 // plan at (t - act start); each hand follows the latest started act whose plan moves that hand
 // (its arm solved to that plan's wrist pose from the current torso), so a person can hold a lid
-// with one hand while the other points. Holds follow the hand's plan labels (holding X begins:
+// with one hand while the other points; while the latest started act that moves the root (a
+// walk) runs, the root and legs follow it, so an act started mid-walk does not stop the walk.
+// Holds follow the hand's plan labels (holding X begins:
 // a box is held by its lid, sim::grasp_lid_by_human; a plank by point holds,
 // sim::grasp_point_by_human; anything else sim::grasp_by_human; ends: sim::release_by_human).
 // Only label changes within one plan act: a new plan starts from a pose whose hands hold
@@ -28,8 +30,9 @@
 // PRED:true/false -> kPredicateChange (name PRED, detail "true"/"false"); ACT.skipped ->
 // kWarning (name "ACT.skipped", detail "skipped").
 //
-// Not handled yet: acts with an imported `clip` motion (the body keeps its pose), walking
-// plans re-planned when an act starts mid-walk.
+// Not handled yet: acts with an imported `clip` motion (the body keeps its pose); an act
+// started mid-walk plans its own motion from the mid-stride pose (its root targets stay where
+// it started; the walk carries it along).
 
 #include <array>
 #include <cstdint>
@@ -94,6 +97,7 @@ class ScriptDriver : public ScenarioDriver {
     double start = 0;  // s, act start
     bool started = false;
     std::array<bool, 2> moves{};  // the plan moves the left / right hand
+    bool moves_root = false;      // the plan walks or moves the stand frame
   };
   struct EventInfo {
     EventKind kind = EventKind::kWarning;

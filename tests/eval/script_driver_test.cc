@@ -278,6 +278,63 @@ success:
   EXPECT_EQ(ScriptDriver(stop_go_spec()).predicate_names(), std::vector<std::string>{"success"});
 }
 
+// A pointing act that starts mid-walk does not stop the walk: the pelvis reaches the walk's
+// goal while the hand points.
+TEST_F(ScriptDriverTest, AnActStartedMidWalkDoesNotStopTheWalk) {
+  const std::string yaml = R"(hribench: 1
+task: walk_and_point
+role: instructor
+instruction: "Watch."
+horizon: 8
+scene:
+  objects:
+    cube: {kind: cube, color: red, pose: {xy: [0.45, -0.2]}}
+human:
+  height: 1.75
+  stand: {x: 1.4, y: 0, yaw_deg: 180}
+  handedness: right
+acts:
+  step:
+    actor: human
+    onset: 0.5
+    motion: {primitive: walk_to, to: [1.4, 0.6, 0], speed: 0.6, turn: 0.3, yaw_deg: 180}
+  look:
+    actor: human
+    after: step.walk
+    delay: 0.4
+    motion: {primitive: point, hand: right, target: cube, prep: 0.3, stroke: 0.5, hold: 0.8, retract: 0.5}
+success:
+  - on(cube, table)
+)";
+  std::vector<core::InputError> problems;
+  const script::Scenario scenario = script::parse_scenario(yaml, "walk_and_point", problems);
+  ASSERT_TRUE(problems.empty()) << problems.front().what();
+  const script::EpisodeSpec spec = script::sample(scenario, 1);
+  const model::Model model = model::build(scene_spec_from_episode(spec));
+  const size_t pelvis = static_cast<size_t>(human::index(human::Joint::kPelvis));
+  const size_t wrist = static_cast<size_t>(human::index(human::Joint::kRightWrist));
+  double pelvis_y_when_done = -1, wrist_moved = 0;
+  bool look_started_mid_walk = false;
+  core::Vec3 wrist_start = core::Vec3::Zero();
+  play(spec, model, 8.0, [&](const ScriptDriver& driver, const sim::Data& data, const std::vector<uint8_t>&) {
+    const double look = script::event_time(driver.graph(), driver.runtime(), "look.start");
+    const double face = script::event_time(driver.graph(), driver.runtime(), "step.face");
+    if (!std::isnan(look) && std::isnan(face)) look_started_mid_walk = true;
+    if (!std::isnan(look) && wrist_start.isZero()) wrist_start = data.X_WJ[wrist].translation - data.X_WJ[pelvis].translation;
+    if (!wrist_start.isZero()) {
+      wrist_moved = std::max(wrist_moved, (data.X_WJ[wrist].translation - data.X_WJ[pelvis].translation - wrist_start).norm());
+    }
+    if (!std::isnan(script::event_time(driver.graph(), driver.runtime(), "step.end"))) {
+      pelvis_y_when_done = data.X_WJ[pelvis].translation.y();
+      return false;
+    }
+    return true;
+  });
+  EXPECT_TRUE(look_started_mid_walk);
+  EXPECT_NEAR(pelvis_y_when_done, 0.6, 0.05);
+  EXPECT_GT(wrist_moved, 0.15);
+}
+
 // C4: both hands take the plank's end and lift it by the act's height; the robot's end stays
 // on the support (the noop robot does not lift).
 TEST_F(ScriptDriverTest, ThePersonLiftsTheirEndOfThePlank) {
