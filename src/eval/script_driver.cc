@@ -6,6 +6,7 @@
 
 #include "core/errors.h"
 #include "human/arm_ik.h"
+#include "human/clip_io.h"
 #include "human/primitives.h"
 #include "sim/contact.h"
 #include "sim/control.h"
@@ -298,22 +299,22 @@ void ScriptDriver::reset(const model::Model& model, sim::Data& data) {
 void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
   if (active_ < 0 || !model.has_human) return;
   const ActMotion& body = motions_[static_cast<size_t>(active_)];
-  if (!body.plan) return;
-  human::SkeletonPose pose = body.plan->pose_at(data.time() - body.start, body.signals);
+  if (!body.playing()) return;
+  human::SkeletonPose pose = body.pose_at(data.time() - body.start);
   // A walk that an act started mid-way keeps going: the root and the legs follow the latest
   // started act that moves the root while its plan runs (the upper body rides along).
   int walker = -1;
   for (size_t i = 0; i < motions_.size(); ++i) {
     const ActMotion& m = motions_[i];
-    if (!m.plan || !m.moves_root || runtime_.acts[i].status != script::ActStatus::kRunning ||
-        data.time() - m.start >= m.plan->end_time(m.signals)) {
+    if (!m.playing() || !m.moves_root || runtime_.acts[i].status != script::ActStatus::kRunning ||
+        data.time() - m.start >= m.end_time()) {
       continue;
     }
     if (walker < 0 || m.start >= motions_[static_cast<size_t>(walker)].start) walker = static_cast<int>(i);
   }
   if (walker >= 0 && walker != active_) {
     const ActMotion& m = motions_[static_cast<size_t>(walker)];
-    const human::SkeletonPose walk = m.plan->pose_at(data.time() - m.start, m.signals);
+    const human::SkeletonPose walk = m.pose_at(data.time() - m.start);
     pose.X_WP = walk.X_WP;
     for (const human::Joint j : kLegs) pose.local[static_cast<size_t>(human::index(j))] = walk.local[static_cast<size_t>(human::index(j))];
   }
@@ -325,7 +326,7 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
     if (!body.moves[h]) {
       for (size_t i = 0; i < motions_.size(); ++i) {
         const ActMotion& m = motions_[i];
-        if (!m.plan || !m.moves[h]) continue;
+        if (!m.playing() || !m.moves[h]) continue;
         if (owner[h] == active_ || m.start >= motions_[static_cast<size_t>(owner[h])].start) {
           owner[h] = static_cast<int>(i);
         }
@@ -333,15 +334,15 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
     }
     const ActMotion& m = motions_[static_cast<size_t>(owner[h])];
     const double t = data.time() - m.start;
-    labels[h] = m.plan->label_at(t, m.signals);
+    labels[h] = m.label_at(t);
     if (owner[h] == active_) continue;
     // The arm reaches where the owning plan puts the wrist (world pose), from this torso.
-    const human::SkeletonPose arm = m.plan->pose_at(t, m.signals);
+    const human::SkeletonPose arm = m.pose_at(t);
     const core::Pose X_WW = human::forward_kinematics(model.skeleton, arm)[static_cast<size_t>(human::index(kWrist[h]))];
     human::ArmTarget target;
     target.wrist = X_WW.translation;
     target.hand = X_WW.rotation;
-    target.swivel = m.plan->key_at(t, m.signals).hands[h].swivel;
+    target.swivel = m.swivel_at(t, h);
     human::solve_arm(model.skeleton, pose, kSides[h], target);
   }
   sim::set_human_pose(model, data, pose);
@@ -423,7 +424,12 @@ void ScriptDriver::start_plan(const model::Model& model, const sim::Data& data, 
   motion.start = runtime_.acts[act].start;
   motion.phase = 0;
   const std::optional<script::Motion>& spec_motion = spec_.acts[act].value.motion;
-  if (!model.has_human || !spec_motion || !spec_motion->primitive) return;
+  if (!model.has_human || !spec_motion) return;
+  if (spec_motion->clip) {
+    start_clip(model, data, act);
+    return;
+  }
+  if (!spec_motion->primitive) return;
   const auto centre = [&](const std::string& name) {
     for (size_t i = 0; i < graph_.objects.size(); ++i) {
       if (graph_.objects[i] == name) return world_.objects[i].X_WO.translation;
@@ -444,6 +450,27 @@ void ScriptDriver::start_plan(const model::Model& model, const sim::Data& data, 
     }
     if (!held_open) motion.signals[segment.phase] = 0;
   }
+}
+
+void ScriptDriver::start_clip(const model::Model& model, const sim::Data& data, size_t act) {
+  ActMotion& motion = motions_[act];
+  const script::Motion& spec_motion = *spec_.acts[act].value.motion;
+  human::RetargetOptions options;
+  options.height = model.skeleton.height;
+  human::Clip clip = human::read_clip(spec_motion.clip->value(), options);
+  // Stretched to the act's duration, placed where the body stands, facing its way.
+  for (const script::Entry<script::ValueTree>& p : spec_motion.params) {
+    if (p.name == "duration" && clip.duration() > 0) clip = human::time_scale(clip, p.value.scalar.expr.number / clip.duration());
+  }
+  const core::Vec3& pelvis = data.human_pose.X_WP.translation;
+  clip = human::place(clip, pelvis.x(), pelvis.y(), human::facing_yaw(data.human_pose));
+  motion.moves = {true, true};
+  motion.moves_root = false;
+  for (const human::SkeletonPose& frame : clip.frames) {
+    const core::Vec3 d = frame.X_WP.translation - clip.frames.front().X_WP.translation;
+    if (std::hypot(d.x(), d.y()) > 0.01) motion.moves_root = true;
+  }
+  motion.clip.emplace(std::move(clip));
 }
 
 void ScriptDriver::update_signals(size_t act) {

@@ -30,9 +30,11 @@
 // PRED:true/false -> kPredicateChange (name PRED, detail "true"/"false"); ACT.skipped ->
 // kWarning (name "ACT.skipped", detail "skipped").
 //
-// Not handled yet: acts with an imported `clip` motion (the body keeps its pose); an act
-// started mid-walk plans its own motion from the mid-stride pose (its root targets stay where
-// it started; the walk carries it along).
+// An act with an imported `clip` (path relative to the working directory, read with
+// human::read_clip at the model's body height) plays it stretched to the act's `duration`,
+// placed where the body stands and facing its way when the act starts; it moves the whole body
+// and holds nothing. Not handled yet: an act started mid-walk plans its own motion from the
+// mid-stride pose (its root targets stay where it started; the walk carries it along).
 
 #include <array>
 #include <cstdint>
@@ -43,6 +45,7 @@
 #include <vector>
 
 #include "eval/runner.h"
+#include "human/clip.h"
 #include "human/motion.h"
 #include "model/model.h"
 #include "script/runtime.h"
@@ -91,13 +94,21 @@ class ScriptDriver : public ScenarioDriver {
 
  private:
   struct ActMotion {
-    std::optional<human::MotionPlan> plan;
+    std::optional<human::MotionPlan> plan;  // a primitive's plan, or
+    std::optional<human::Clip> clip;        // an imported clip, placed where the body stood
     human::Signals signals;
     size_t phase = 0;  // runtime phase index last seen
     double start = 0;  // s, act start
     bool started = false;
     std::array<bool, 2> moves{};  // the plan moves the left / right hand
     bool moves_root = false;      // the plan walks or moves the stand frame
+
+    bool playing() const { return plan || clip; }
+    // At act time t: the pose, the labels (a clip's: no holds), a hand's swivel, the end.
+    human::SkeletonPose pose_at(double t) const { return plan ? plan->pose_at(t, signals) : clip->pose_at(t); }
+    human::FrameLabel label_at(double t) const { return plan ? plan->label_at(t, signals) : human::FrameLabel{}; }
+    double swivel_at(double t, size_t h) const { return plan ? plan->key_at(t, signals).hands[h].swivel : 0.0; }
+    double end_time() const { return plan ? plan->end_time(signals) : clip->duration(); }
   };
   struct EventInfo {
     EventKind kind = EventKind::kWarning;
@@ -108,6 +119,7 @@ class ScriptDriver : public ScenarioDriver {
 
   void fill_world(const model::Model& model, const sim::Data& data);
   void start_plan(const model::Model& model, const sim::Data& data, size_t act);
+  void start_clip(const model::Model& model, const sim::Data& data, size_t act);
   void update_signals(size_t act);
 
   script::EpisodeSpec spec_;

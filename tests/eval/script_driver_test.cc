@@ -335,6 +335,55 @@ success:
   EXPECT_GT(wrist_moved, 0.15);
 }
 
+// An imported clip (a captured walk) plays from where the person stands, stretched to the
+// act's duration.
+TEST_F(ScriptDriverTest, AnImportedClipPlaysFromWhereThePersonStands) {
+  const std::string yaml = R"(hribench: 1
+task: clip_walk
+role: instructor
+instruction: "Watch."
+horizon: 6
+scene:
+  objects:
+    cube: {kind: cube, color: red, pose: {xy: [0.45, -0.2]}}
+human:
+  height: 1.75
+  stand: {x: 1.6, y: 0, yaw_deg: 180}
+  handedness: right
+acts:
+  stroll:
+    actor: human
+    onset: 0.5
+    motion: {clip: ../shared/data/motion/cmu_131_01.bvh, duration: 4.0}
+success:
+  - on(cube, table)
+)";
+  std::vector<core::InputError> problems;
+  const script::Scenario scenario = script::parse_scenario(yaml, "clip_walk", problems);
+  ASSERT_TRUE(problems.empty()) << problems.front().what();
+  const script::EpisodeSpec spec = script::sample(scenario, 1);
+  const model::Model model = model::build(scene_spec_from_episode(spec));
+  const size_t pelvis = static_cast<size_t>(human::index(human::Joint::kPelvis));
+  const core::Vec3 stand = model.human_start.X_WP.translation;
+  double first_offset = -1, travelled = 0, moved_before = 0;
+  play(spec, model, 6.0, [&](const ScriptDriver& driver, const sim::Data& data, const std::vector<uint8_t>&) {
+    const core::Vec3 p = data.X_WJ[pelvis].translation;
+    const double d = std::hypot(p.x() - stand.x(), p.y() - stand.y());
+    const double start = script::event_time(driver.graph(), driver.runtime(), "stroll.start");
+    if (std::isnan(start)) {
+      moved_before = std::max(moved_before, d);
+    } else {
+      if (first_offset < 0) first_offset = d;
+      travelled = std::max(travelled, d);
+    }
+    return true;
+  });
+  EXPECT_LT(moved_before, 1e-9);
+  EXPECT_GE(first_offset, 0);
+  EXPECT_LT(first_offset, 0.05);  // placed at the stand position
+  EXPECT_GT(travelled, 0.5);      // the captured walk moves the body
+}
+
 // C4: both hands take the plank's end and lift it by the act's height; the robot's end stays
 // on the support (the noop robot does not lift).
 TEST_F(ScriptDriverTest, ThePersonLiftsTheirEndOfThePlank) {
