@@ -67,6 +67,13 @@ class ScriptDriverTest : public hribench::testing::MujocoTest {
     }
     ExpectNoWarnings(data.mj.get());
   }
+  // A script's text sampled at seed 1 (a script that does not parse fails the test).
+  static script::EpisodeSpec sample_text(const std::string& yaml, const std::string& name) {
+    std::vector<core::InputError> problems;
+    const script::Scenario scenario = script::parse_scenario(yaml, name, problems);
+    for (const core::InputError& e : problems) ADD_FAILURE() << e.what();
+    return script::sample(scenario, 1);
+  }
   // Samples a script at seed 1, builds its model and runs a noop episode.
   EpisodeLog run_script(const std::string& path, double horizon) {
     const script::EpisodeSpec spec = script::sample(script::load_scenario(path), 1);
@@ -195,10 +202,7 @@ TEST_F(ScriptDriverTest, ConcurrentActsMoveTheirOwnHands) {
   const size_t robot_acts = yaml.find("  # Robot acts");
   ASSERT_NE(robot_acts, std::string::npos);
   yaml.insert(robot_acts, pointing);
-  std::vector<core::InputError> problems;
-  const script::Scenario scenario = script::parse_scenario(yaml, "C3+look", problems);
-  ASSERT_TRUE(problems.empty()) << problems.front().what();
-  const script::EpisodeSpec spec = script::sample(scenario, 1);
+  const script::EpisodeSpec spec = sample_text(yaml, "C3+look");
   const model::Model model = model::build(scene_spec_from_episode(spec));
   const model::ObjectInfo& box = model.objects[static_cast<size_t>(model.object_index("box"))];
   const int hinge = model.m()->jnt_qposadr[box.lid_joint];
@@ -257,10 +261,7 @@ acts:
 success:
   - on(cube, plate)
 )";
-  std::vector<core::InputError> problems;
-  const script::Scenario scenario = script::parse_scenario(yaml, "contra", problems);
-  ASSERT_TRUE(problems.empty()) << problems.front().what();
-  const script::EpisodeSpec spec = script::sample(scenario, 1);
+  const script::EpisodeSpec spec = sample_text(yaml, "contra");
   const model::Model model = model::build(scene_spec_from_episode(spec));
   EXPECT_EQ(ScriptDriver(spec).predicate_names(), (std::vector<std::string>{"success", "intent", "contradicted"}));
   std::vector<std::pair<double, std::vector<uint8_t>>> seen;
@@ -306,10 +307,7 @@ acts:
 success:
   - on(cube, table)
 )";
-  std::vector<core::InputError> problems;
-  const script::Scenario scenario = script::parse_scenario(yaml, "walk_and_point", problems);
-  ASSERT_TRUE(problems.empty()) << problems.front().what();
-  const script::EpisodeSpec spec = script::sample(scenario, 1);
+  const script::EpisodeSpec spec = sample_text(yaml, "walk_and_point");
   const model::Model model = model::build(scene_spec_from_episode(spec));
   const size_t pelvis = static_cast<size_t>(human::index(human::Joint::kPelvis));
   const size_t wrist = static_cast<size_t>(human::index(human::Joint::kRightWrist));
@@ -358,10 +356,7 @@ acts:
 success:
   - on(cube, table)
 )";
-  std::vector<core::InputError> problems;
-  const script::Scenario scenario = script::parse_scenario(yaml, "clip_walk", problems);
-  ASSERT_TRUE(problems.empty()) << problems.front().what();
-  const script::EpisodeSpec spec = script::sample(scenario, 1);
+  const script::EpisodeSpec spec = sample_text(yaml, "clip_walk");
   const model::Model model = model::build(scene_spec_from_episode(spec));
   const size_t pelvis = static_cast<size_t>(human::index(human::Joint::kPelvis));
   const core::Vec3 stand = model.human_start.X_WP.translation;
