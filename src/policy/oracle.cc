@@ -134,6 +134,7 @@ void ExpertPolicy::reset(const EpisodeInfo& info) {
     objects_.push_back(g);
   }
   events_.clear();
+  predicates_.clear();
   internal_done_.assign(plan_.size(), 0);
   events_read_ = 0;
   stopped_ = false;
@@ -161,7 +162,18 @@ const ExpertPolicy::ObjectGeometry* ExpertPolicy::geometry(const std::string& na
 void ExpertPolicy::update_events(const Observation& observation) {
   for (; events_read_ < observation.events.size(); ++events_read_) {
     const ScriptEvent& e = observation.events[events_read_];
-    if (e.kind == "predicate_change" || e.kind == "warning") continue;
+    if (e.kind == "predicate_change") {
+      bool found = false;
+      for (auto& [name, value] : predicates_) {
+        if (name == e.name) {
+          value = e.detail == "true";
+          found = true;
+        }
+      }
+      if (!found) predicates_.emplace_back(e.name, e.detail == "true");
+      continue;
+    }
+    if (e.kind == "warning") continue;
     if ((e.kind == "cue" || e.kind == "act_start") && competence_ != Competence::kBlind) {
       // A stop gesture halts the robot from its start (the cue is its held phase; the robot
       // must already be still then); a go cue resumes. Stop cues of acts that contradict are
@@ -610,19 +622,36 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
   if (step.kind == StepKind::kOffer) {
     const bool holding = gripper_ < 0.5 && world.width > kHoldingWidth &&
                          (centre - tcp).norm() < 0.06 + g.half_extents.z();
-    if (!holding || phase_ < 3) {
-      run_pick(world, step.object, true);
-      internal_done_[current_] = 0;
-      if (!(phase_ == 3 && holding)) return;
-      set_phase(20, world.time);
+    if (phase_ < 20) {
+      if (holding && (phase_ == 0 || phase_ >= 3)) {
+        set_phase(20, world.time);
+      } else {
+        run_pick(world, step.object, true);
+        internal_done_[current_] = 0;
+        return;
+      }
     }
     gripper_ = 0.0;
+    // Hold it ready in front of the robot until the receiving hand reaches out, then bring it
+    // into the palm.
+    const std::string receiver = receiving_act(step.object);
+    if (!receiver.empty() && !seen(receiver + ".open")) {
+      speed_ = kMaxSpeed;
+      target_.translation = Vec3(0.40, std::clamp(tcp.y(), -0.2, 0.2), 1.0);
+      return;
+    }
     speed_ = kFineSpeed * 2;
     target_.translation = palm + (tcp - centre) + Vec3(0, 0, 0.02);
     return;
   }
-  // Release: open, then withdraw toward the robot.
-  if (phase_ < 30) set_phase(30, world.time);
+  // Release once the hand holds it (or a second after the step's event), then withdraw.
+  if (phase_ < 30) set_phase(29, world.time);
+  if (phase_ == 29) {
+    gripper_ = 0.0;
+    speed_ = 0;
+    if (human_holds(step.object) || world.time - phase_start_ > 1.0) set_phase(30, world.time);
+    return;
+  }
   const double elapsed = world.time - phase_start_;
   if (phase_ == 30) {
     gripper_ = 1.0;
@@ -636,12 +665,43 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
   }
 }
 
+bool ExpertPolicy::human_holds(const std::string& object) const {
+  for (const auto& [name, value] : predicates_) {
+    if (value && name.rfind("held(human.", 0) == 0 && name.find(", " + object + ")") != std::string::npos &&
+        name.find(' ', name.find(')')) == std::string::npos) {
+      return true;
+    }
+  }
+  return false;
+}
+
+std::string ExpertPolicy::receiving_act(const std::string& object) const {
+  for (const auto& entry : episode_->acts) {
+    const script::Act& act = entry.value;
+    if (act.actor != "human" || !act.motion || !act.motion->primitive) continue;
+    if (act.motion->primitive->value() != "receive") continue;
+    for (const auto& param : act.motion->params) {
+      const script::Expr& e = param.value.scalar.expr;
+      if (param.name == "object" && e.kind == script::Expr::Kind::kString && e.text == object) {
+        return entry.name;
+      }
+    }
+  }
+  return "";
+}
+
 double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
   retreat = Vec3::Zero();
   if (competence_ != Competence::kOracle) return 1.0;
   if (current_ < plan_.size()) {
     const StepKind kind = plan_[current_].kind;
     if (kind == StepKind::kOffer || kind == StepKind::kRelease || kind == StepKind::kApproach) return 1.0;
+    // Taking an object from a person's hand: the hand is the goal, not an intrusion.
+    const size_t k = index_of(objects_, plan_[current_].object);
+    if (k < objects_.size()) {
+      const Vec3 centre = world.centre(k, objects_[k].half_extents);
+      if ((centre - world.palm(0)).norm() < 0.15 || (centre - world.palm(1)).norm() < 0.15) return 1.0;
+    }
   }
   // Robot points: the TCP, the hand housing, the wrist and forearm above it.
   const Vec3 tcp = world.X_WT.translation;

@@ -23,6 +23,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/math.h"
@@ -84,6 +85,10 @@ class ExpertPolicy : public Policy {
   // farthest from the objects already there, preferring the centre.
   core::Vec3 free_spot(const World& world, size_t object, size_t target, const core::Pose& X_WC) const;
   void run_handover(const World& world, const PlanStep& step);
+  // The human act that receives an object (primitive receive), or "".
+  std::string receiving_act(const std::string& object) const;
+  // A logged predicate held(human.H, object) (alone, not within a conjunction) is true.
+  bool human_holds(const std::string& object) const;
   void set_phase(int phase, double time);
   void restart_approach();  // after backing off: approach the grasp / target from above again
   double separation_scale(const World& world, core::Vec3& retreat) const;
@@ -94,6 +99,7 @@ class ExpertPolicy : public Policy {
   std::vector<PlanStep> plan_;
   std::vector<ObjectGeometry> objects_;
   std::vector<std::string> events_;      // names of events seen (kinds act_*, phase, cue)
+  std::vector<std::pair<std::string, bool>> predicates_;  // logged predicates, last value
   std::vector<char> internal_done_;      // per step: its skill sequence finished
   size_t events_read_ = 0;
   bool stopped_ = false;                 // a stop cue holds the robot

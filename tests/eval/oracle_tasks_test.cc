@@ -78,15 +78,36 @@ TEST_P(OracleTask, OracleSucceedsWithoutCriticalContact) {
 
 INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                          ::testing::Values(TaskCase{"tasks/I1_point_pick.yaml", 0},
+                                           TaskCase{"tasks/I3_demo_imitate.yaml", 0},
                                            TaskCase{"tasks/I4_stop_go.yaml", 1},
-                                           TaskCase{"tasks/X2_object_moved.yaml", 0}));
+                                           TaskCase{"tasks/I5_contradiction.yaml", 0},
+                                           TaskCase{"tasks/X1_intrusion_yield.yaml", 0},
+                                           TaskCase{"tasks/X2_object_moved.yaml", 0},
+                                           TaskCase{"tasks/X4_blocked_target.yaml", 0}));
 
-// The baselines fail X2: the reactive one grasps where the object was (no re-plan).
-TEST(OracleBaselines, ReactiveAndBlindDoNotRecoverWhenTheObjectIsMoved) {
-  for (const char* policy : {"reactive", "blind"}) {
-    const Outcome o = run_task("tasks/X2_object_moved.yaml", 0, policy);
-    EXPECT_FALSE(o.metrics.success) << policy;
-    EXPECT_TRUE(has_label(o.metrics, FailureLabel::kNoRecovery)) << policy << ": " << describe(o);
+// The baselines fail the Intruder tasks for the reason their missing competence predicts:
+// X2 no re-plan (grasps where the object was, into the person's hand), X3 no stand-down
+// (reaches for the object the person is placing), X4 no waiting for the hand to clear
+// (places before the retract: ordering violated).
+struct BaselineCase {
+  const char* file;
+  uint64_t seed;
+  FailureLabel label;
+};
+
+TEST(OracleBaselines, ReactiveAndBlindFailTheIntruderTasksWithTheExpectedLabel) {
+  const BaselineCase cases[] = {
+      {"tasks/X2_object_moved.yaml", 2, FailureLabel::kNoRecovery},
+      {"tasks/X3_someone_else_places.yaml", 0, FailureLabel::kContact},
+      {"tasks/X4_blocked_target.yaml", 0, FailureLabel::kPremature},
+  };
+  for (const BaselineCase& c : cases) {
+    for (const char* policy : {"reactive", "blind"}) {
+      const Outcome o = run_task(c.file, c.seed, policy);
+      EXPECT_FALSE(o.metrics.success) << c.file << " " << policy;
+      EXPECT_TRUE(has_label(o.metrics, c.label))
+          << c.file << " " << policy << ": " << describe(o);
+    }
   }
 }
 
