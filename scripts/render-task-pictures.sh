@@ -20,7 +20,7 @@ picture() {
     --camera free --pretty --width 480 --height 360 --out "$out/$id.png" "$@"
 }
 
-picture I1 I1_point_pick           3 noop   point.hold+0.2
+picture I1 I1_point_pick           1 noop   point.hold+0.3
 picture I2 I2_gesture_delivery     1 oracle ask.gesture+0.3
 picture I3 I3_demo_imitate         0 noop   demo.transport+0.5
 picture I4 I4_stop_go              2 oracle halt.hold+0.3
