@@ -640,8 +640,10 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
       target_.translation = Vec3(0.40, std::clamp(tcp.y(), -0.2, 0.2), 1.0);
       return;
     }
+    // Over the palm first, then down into it (the hand housing stays clear of the fingers).
     speed_ = kFineSpeed * 2;
-    target_.translation = palm + (tcp - centre) + Vec3(0, 0, 0.02);
+    const Vec3 into = palm + (tcp - centre) + Vec3(0, 0, 0.02);
+    target_.translation = (tcp - into).head<2>().norm() > 0.03 ? Vec3(into + Vec3(0, 0, 0.10)) : into;
     return;
   }
   // Release once the hand holds it (or a second after the step's event), then withdraw.
