@@ -32,6 +32,7 @@
 #include "eval/runner.h"
 #include "eval/script_contract.h"
 #include "eval/script_driver.h"
+#include "eval/task_episode.h"
 #include "gen/pool.h"
 #include "model/model.h"
 #include "policy/registry.h"
@@ -81,17 +82,11 @@ struct Job {
 eval::EpisodeResult run_one(const Job& job, const eval::RunOptions& base) {
   const script::EpisodeSpec& spec = *job.spec;
   try {
-    const model::Model model = model::build(eval::scene_spec_from_episode(spec));
-    sim::Data data = sim::make_data(model);
-    eval::ScriptDriver driver(spec);
     std::unique_ptr<policy::Policy> policy = policy::make_policy(job.policy);
     const eval::EpisodeSetup setup{spec.task, spec.role,        job.hash,
                                    spec.seed, spec.instruction, job.policy};
-    eval::RunOptions options = base;
-    if (options.horizon <= 0) options.horizon = spec.horizon;
-    const eval::EpisodeLog log = eval::run_episode(model, data, *policy, driver, setup, options);
-    const eval::ScenarioContract contract = eval::contract_from_act_graph(driver.graph());
-    return eval::make_result(log, eval::compute_metrics(contract, log, options.constants));
+    const eval::ScoredEpisode scored = eval::run_task_episode(spec, *policy, setup, base);
+    return eval::make_result(scored.log, scored.metrics);
   } catch (const std::exception& e) {
     eval::EpisodeResult result;
     result.task = spec.task;

@@ -14,6 +14,7 @@
 #include "eval/runner.h"
 #include "eval/script_contract.h"
 #include "eval/script_driver.h"
+#include "eval/task_episode.h"
 #include "policy/registry.h"
 #include "script/predicate.h"
 #include "script/runtime.h"
@@ -547,20 +548,15 @@ FilterOutcome check_visibility(CandidateScene& scene) {
 
 FilterOutcome check_executable(const script::EpisodeSpec& spec, const std::string& policy_ref) {
   if (policy_ref == "none") return FilterOutcome::Pass();
-  const model::Model model = model::build(eval::scene_spec_from_episode(spec));
-  sim::Data data = sim::make_data(model);
-  eval::ScriptDriver driver(spec);
   std::unique_ptr<policy::Policy> policy = policy::make_policy(policy_ref);
   const eval::EpisodeSetup setup{spec.task, spec.role, "", spec.seed, spec.instruction, policy_ref};
-  eval::RunOptions options;
-  options.horizon = spec.horizon;
-  const eval::EpisodeLog log = eval::run_episode(model, data, *policy, driver, setup, options);
+  const eval::ScoredEpisode scored = eval::run_task_episode(spec, *policy, setup, eval::RunOptions{});
+  const eval::EpisodeLog& log = scored.log;
   if (log.status != core::EpisodeStatus::kOk) {
     return FilterOutcome::Fail(fmt::format("{} episode ended {}: {}", policy_ref,
                                            core::to_string(log.status), log.status_reason));
   }
-  const eval::EpisodeMetrics metrics =
-      eval::compute_metrics(eval::contract_from_act_graph(driver.graph()), log, options.constants);
+  const eval::EpisodeMetrics& metrics = scored.metrics;
   if (!metrics.success) {
     return FilterOutcome::Fail(fmt::format(
         "{} does not succeed ({})", policy_ref,
