@@ -635,7 +635,7 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     // Hold it ready in front of the robot until the receiving hand reaches out, then bring it
     // into the palm.
     const std::string receiver = receiving_act(step.object);
-    if (!receiver.empty() && !seen(receiver + ".open")) {
+    if (!receiver.empty() && !seen(receiver + ".open") && competence_ != Competence::kBlind) {
       speed_ = kMaxSpeed;
       target_.translation = Vec3(0.40, std::clamp(tcp.y(), -0.2, 0.2), 1.0);
       return;
@@ -651,7 +651,11 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
   if (phase_ == 29) {
     gripper_ = 0.0;
     speed_ = 0;
-    if (human_holds(step.object) || world.time - phase_start_ > 1.0) set_phase(30, world.time);
+    // Blind does not watch the hand: it lets go as soon as the step begins.
+    if (competence_ == Competence::kBlind || human_holds(step.object) ||
+        world.time - phase_start_ > 1.0) {
+      set_phase(30, world.time);
+    }
     return;
   }
   const double elapsed = world.time - phase_start_;
