@@ -13,36 +13,24 @@
 
 #include "eval/metrics.h"
 #include "eval/runner.h"
-#include "eval/script_contract.h"
-#include "eval/script_driver.h"
-#include "model/model.h"
+#include "eval/task_episode.h"
 #include "policy/registry.h"
 #include "script/check.h"
 #include "script/sample.h"
-#include "sim/data.h"
 
 namespace hribench::eval {
 namespace {
 
-struct Outcome {
-  EpisodeLog log;
-  EpisodeMetrics metrics;
-};
+using Outcome = ScoredEpisode;
 
-// Samples `task_file` at `seed`, runs `policy` on it, scores it.
+// Samples `task_file` at `seed`, runs `policy` on it and scores it (run_task_episode).
 Outcome run_task(const std::string& task_file, uint64_t seed, const std::string& policy_ref) {
   const script::EpisodeSpec spec = script::sample(script::load_scenario(task_file), seed);
-  const model::Model model = model::build(scene_spec_from_episode(spec));
-  sim::Data data = sim::make_data(model);
-  ScriptDriver driver(spec);
   std::unique_ptr<policy::Policy> policy = policy::make_policy(policy_ref);
   const EpisodeSetup setup{spec.task, spec.role, "", spec.seed, spec.instruction, policy_ref};
   RunOptions options;
-  options.horizon = spec.horizon;
-  Outcome out;
-  out.log = run_episode(model, data, *policy, driver, setup, options);
-  out.metrics = compute_metrics(contract_from_act_graph(driver.graph()), out.log, options.constants);
-  return out;
+  options.horizon = 0;  // the script's
+  return run_task_episode(spec, *policy, setup, options);
 }
 
 std::vector<std::string> label_names(const EpisodeMetrics& m) {
