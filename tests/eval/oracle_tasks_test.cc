@@ -69,9 +69,12 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/I3_demo_imitate.yaml", 0},
                                            TaskCase{"tasks/I4_stop_go.yaml", 1},
                                            TaskCase{"tasks/I5_contradiction.yaml", 0},
+                                           TaskCase{"tasks/I5_contradiction.yaml", 1},
                                            TaskCase{"tasks/X1_intrusion_yield.yaml", 0},
                                            TaskCase{"tasks/X2_object_moved.yaml", 0},
-                                           TaskCase{"tasks/X4_blocked_target.yaml", 0}));
+                                           TaskCase{"tasks/X3_someone_else_places.yaml", 0},
+                                           TaskCase{"tasks/X4_blocked_target.yaml", 0},
+                                           TaskCase{"tasks/C2_handover_r2h.yaml", 1}));
 
 // The baselines fail the Intruder tasks for the reason their missing competence predicts:
 // X2 no re-plan (grasps where the object was, into the person's hand), X3 no stand-down
