@@ -748,7 +748,7 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
     dir.z() = std::max(dir.z(), 0.0);
     retreat = dir.norm() > 1e-6 ? Vec3(dir.normalized()) : Vec3(-1, 0, 0);
     // Waiting for an event the step must start after: any motion would count as its start
-    // (the contract has no goal positions yet), so the robot holds still.
+    // (I3 scores even a retreat straight up as premature), so the robot holds still.
     if (holding_) retreat = Vec3::Zero();
     return 0;
   }
