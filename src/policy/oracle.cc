@@ -131,6 +131,16 @@ void ExpertPolicy::reset(const EpisodeInfo& info) {
     g.kind = entry.value.kind.value();
     const std::optional<model::ObjectKind> kind = model::object_kind_from_name(g.kind);
     g.half_extents = kind ? model::mjcf::nominal_half_extents(*kind) : Vec3(0.03, 0.03, 0.03);
+    // A platform is a fixed box on the table top, sized and placed by the script.
+    const script::SceneObject& o = entry.value;
+    if (g.kind == "platform" && o.size.size() == 3 && o.pose && o.pose->xy.size() == 2) {
+      g.half_extents = Vec3(o.size[0].value(), o.size[1].value(), o.size[2].value()) / 2;
+      Pose X_WO = Pose::Identity();
+      X_WO.translation = Vec3(o.pose->xy[0].value(), o.pose->xy[1].value(),
+                              model::kTableTopZ + g.half_extents.z());
+      X_WO.rotation = core::axis_angle(Vec3::UnitZ(), o.pose->yaw_deg.value() * core::kPi / 180);
+      g.fixed_X_WO = X_WO;
+    }
     objects_.push_back(g);
   }
   events_.clear();
@@ -271,6 +281,9 @@ ActionChunk ExpertPolicy::act(const Observation& observation) {
   world.width = observation.proprio.gripper_width;
   world.joints = observation.state->human_joints_W;
   world.objects.assign(objects_.size(), Pose::Identity());
+  for (size_t k = 0; k < objects_.size(); ++k) {
+    if (objects_[k].fixed_X_WO) world.objects[k] = *objects_[k].fixed_X_WO;
+  }
   for (const ObjectPose& pose : observation.state->objects) {
     for (size_t k = 0; k < objects_.size(); ++k) {
       if (objects_[k].name == pose.name) world.objects[k] = pose.X_WO;

@@ -22,6 +22,7 @@
 // Deterministic: actions are a function of the episode and the observations.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -66,6 +67,8 @@ class ExpertPolicy : public Policy {
     std::string name;
     std::string kind;
     core::Vec3 half_extents = core::Vec3::Zero();
+    // Static scene parts the state track does not report (platforms): their pose, world.
+    std::optional<core::Pose> fixed_X_WO;
   };
   struct World;  // the observation, indexed (oracle.cc)
 
