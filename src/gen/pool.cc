@@ -167,13 +167,24 @@ std::vector<std::string> resolve_task_scripts(const std::string& list) {
 
 std::vector<script::EpisodeSpec> pool_episodes(const Manifest& manifest, Split split,
                                                const std::vector<std::string>& tasks) {
+  // A name matches an entry by task name, script file, or script stem, its prefix or suffix
+  // (as resolve_task_scripts matches the files of tasks/).
+  const auto matches = [](const std::string& name, const PoolEntry& e) {
+    const std::string stem = fs::path(e.script).stem().string();
+    const std::string suffix = "_" + name;
+    return name == e.task || name == stem || stem.rfind(name + "_", 0) == 0 ||
+           (stem.size() > suffix.size() &&
+            stem.compare(stem.size() - suffix.size(), suffix.size(), suffix) == 0) ||
+           fs::path(name).lexically_normal() == fs::path(e.script).lexically_normal();
+  };
+  for (const std::string& t : tasks) {
+    const bool known = std::any_of(manifest.episodes.begin(), manifest.episodes.end(),
+                                   [&](const PoolEntry& e) { return matches(t, e); });
+    if (!known) throw core::InputError("--tasks", "a task of the pool", "'" + t + "'");
+  }
   const auto wanted = [&](const PoolEntry& e) {
     if (tasks.empty()) return true;
-    const std::string stem = fs::path(e.script).stem().string();
-    for (const std::string& t : tasks) {
-      if (t == e.task || t == stem || stem.rfind(t + "_", 0) == 0) return true;
-    }
-    return false;
+    return std::any_of(tasks.begin(), tasks.end(), [&](const std::string& t) { return matches(t, e); });
   };
   std::map<std::string, script::Scenario> scenarios;
   std::vector<script::EpisodeSpec> specs;

@@ -78,9 +78,10 @@ Manifest read_manifest(const std::string& dir);
 // "--tasks") for a name that matches nothing or an empty list.
 std::vector<std::string> resolve_task_scripts(const std::string& list);
 
-// The episodes of `split` (all tasks, or those whose task name or script stem matches one of
-// `tasks`), re-sampled from their scripts (paths relative to the working directory) and
-// checked against the manifest hashes. Throws core::InputError when a script is missing or
+// The episodes of `split` (all tasks, or those matching one of `tasks` by task name, script
+// file, or script stem, its prefix or suffix), re-sampled from their scripts (paths relative to
+// the working directory) and checked against the manifest hashes. Throws core::InputError
+// (where "--tasks") for a name that matches no task of the pool, when a script is missing or
 // fails check, or when an episode's hash differs ("the pool was made by other scripts").
 std::vector<script::EpisodeSpec> pool_episodes(const Manifest& manifest, Split split,
                                                const std::vector<std::string>& tasks = {});

@@ -103,8 +103,12 @@ TEST(Pool, EpisodesAreResampledAndCheckedAgainstTheManifestHash) {
   ASSERT_EQ(eval.size(), 1u);
   EXPECT_EQ(eval[0].seed, seed);
   EXPECT_TRUE(pool_episodes(m, Split::kTest).empty());
-  EXPECT_TRUE(pool_episodes(m, Split::kEval, {"stop_go"}).empty());
   EXPECT_EQ(pool_episodes(m, Split::kEval, {"I1"}).size(), 1u);
+  EXPECT_EQ(pool_episodes(m, Split::kEval, {"pick"}).size(), 1u);
+  EXPECT_EQ(pool_episodes(m, Split::kEval, {"./tasks/I1_point_pick.yaml"}).size(), 1u);
+  // A name the pool does not have is an error, also beside one it has.
+  EXPECT_EQ(error_of([&] { pool_episodes(m, Split::kEval, {"I1", "stop_go"}); }),
+            "--tasks: expected a task of the pool, got 'stop_go'");
   // A hash that does not match: the scripts changed since the pool was made.
   EXPECT_THAT(error_of([&] { pool_episodes(m, Split::kAdapt); }),
               HasSubstr("hash differs from the pool manifest's"));
