@@ -349,6 +349,13 @@ GenerationReport generate(const GenerateOptions& o) {
     for (size_t k = 0; k < valid[t].size(); ++k) {
       const CandidateRecord& r = *valid[t][k];
       const script::EpisodeSpec spec = script::sample(scenarios[t], r.seed);
+      // A resumed generation whose scripts changed since the interruption: refuse, not mix.
+      if (script::spec_hash(spec) != r.hash) {
+        throw core::InputError::Message(
+            o.scripts[t], fmt::format("candidate {} (seed {}) samples another episode than when it was "
+                                      "judged; the script changed since the generation began: "
+                                      "generate again without --resume", r.index, r.seed));
+      }
       write_text(dir / fmt::format("c{:04d}.json", r.index), script::spec_to_text(spec));
       manifest.episodes.push_back(PoolEntry{names[t], o.scripts[t], splits[k], r.index, r.seed, r.hash});
     }

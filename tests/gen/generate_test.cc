@@ -121,6 +121,24 @@ TEST_F(GenerateTest, ResumesAnInterruptedGenerationToTheSamePool) {
   EXPECT_EQ(read_file(dir_ / "full" / "manifest.json"), read_file(dir_ / "cut" / "manifest.json"));
 }
 
+TEST_F(GenerateTest, AResumeAfterTheScriptsChangedIsRefused) {
+  generate(options("judged"));
+  // The same judged candidates, as if their script had sampled other episodes back then.
+  const GenerateOptions o = options("changed");
+  fs::create_directories(o.out);
+  fs::copy_file(dir_ / "judged" / "options.json", fs::path(o.out) / "options.json");
+  std::string lines = read_file(dir_ / "judged" / "candidates.jsonl");
+  for (size_t at = lines.find("\"hash\":\""); at != std::string::npos; at = lines.find("\"hash\":\"", at + 1)) {
+    lines.replace(at + 8, 64, std::string(64, '0'));
+  }
+  std::ofstream(fs::path(o.out) / "candidates.jsonl", std::ios::binary) << lines;
+  GenerateOptions resumed = o;
+  resumed.resume = true;
+  EXPECT_THAT(error_of([&] { generate(resumed); }),
+              HasSubstr("the script changed since the generation began: generate again without --resume"));
+  EXPECT_FALSE(fs::exists(fs::path(o.out) / "manifest.json"));
+}
+
 TEST_F(GenerateTest, RefusesAFolderHoldingAnotherPoolWithoutTouchingIt) {
   const GenerateOptions o = options("pool");
   generate(o);
