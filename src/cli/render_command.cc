@@ -252,7 +252,13 @@ mjvCamera make_camera(const mjModel& m, const RenderOptions& o) {
     return camera;
   }
   camera.type = mjCAMERA_FIXED;
-  camera.fixedcamid = render::camera_id(m, o.camera, "--camera");
+  camera.fixedcamid = mj_name2id(&m, mjOBJ_CAMERA, o.camera.c_str());
+  if (camera.fixedcamid < 0) {
+    // The model's cameras, then the documentation view.
+    std::string names;
+    for (int i = 0; i < m.ncam; ++i) names += std::string(mj_id2name(&m, mjOBJ_CAMERA, i)) + ", ";
+    throw core::InputError("--camera", "one of " + names + "free", "'" + o.camera + "'");
+  }
   return camera;
 }
 

@@ -78,7 +78,7 @@ TEST(RenderCommandTest, ImpossibleSizesAreOneLine) {
 TEST(RenderCommandTest, UnknownCameraNamesTheCameras) {
   expect_one_line_error("render --out " + temp_png("hribench_render_command_cam.png") +
                             " --width 8 --height 8 --camera ceiling",
-                        "--camera: expected one of agentview, wrist, got 'ceiling'");
+                        "--camera: expected one of agentview, wrist, free, got 'ceiling'");
 }
 
 TEST(RenderCommandTest, UnwritablePathIsOneLine) {
