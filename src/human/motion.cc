@@ -378,13 +378,17 @@ SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t) const 
     }
   }
   if (lean > 0) {
-    // A hanging arm follows its shoulder.
+    // A hanging arm follows its shoulder forward and sideways but never down: carried down
+    // with a forward lean, it sank into whatever the person leans over (a table's edge).
     const auto before = forward_kinematics(k, pose);
     lean_spine(k, pose, lean_dir, lean);
     const auto after = forward_kinematics(k, pose);
     for (size_t h = 0; h < 2; ++h) {
+      if (!hanging[h]) continue;
       const auto j = static_cast<size_t>(index(shoulder(side_of(h))));
-      if (hanging[h]) targets[h].wrist += after[j].translation - before[j].translation;
+      Vec3 shift = after[j].translation - before[j].translation;
+      shift.z() = std::max(shift.z(), 0.0);
+      targets[h].wrist += shift;
     }
   }
   for (size_t h = 0; h < 2; ++h) solve_arm(k, pose, side_of(h), targets[h]);

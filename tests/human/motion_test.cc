@@ -537,3 +537,28 @@ TEST(MotionTest, BadParametersAreClearErrors) {
 
 }  // namespace
 }  // namespace hribench::human
+
+namespace hribench::human {
+namespace {
+
+TEST(MotionTest, AHangingArmDoesNotSinkWithAForwardLean) {
+  // A low, far reach with the right hand leans the trunk; the left arm hangs. Carried down
+  // with its shoulder it would sink into whatever the person leans over (a table edge).
+  const Skeleton k = Skeleton::FromHeight(1.60);
+  PrimitiveParams p = example("reach");
+  p.points["target"] = Vec3(kStandX - 0.62, -0.10, 0.80);
+  const LabelledClip lc = generate_clip(k, standing(k), p, 30);
+  const auto shoulder_z = [&](size_t f) {
+    return forward_kinematics(k, lc.clip.frames[f])[static_cast<size_t>(index(Joint::kLeftShoulder))].translation.z();
+  };
+  double lowest_palm = 1e9, lowest_shoulder = 1e9;
+  for (size_t f = 0; f < lc.clip.frames.size(); ++f) {
+    lowest_palm = std::min(lowest_palm, palm_of(lc.clip, f, Side::kLeft).z());
+    lowest_shoulder = std::min(lowest_shoulder, shoulder_z(f));
+  }
+  EXPECT_LT(lowest_shoulder, shoulder_z(0) - 0.03);  // the trunk did lean
+  EXPECT_GT(lowest_palm, palm_of(lc.clip, 0, Side::kLeft).z() - 0.005);
+}
+
+}  // namespace
+}  // namespace hribench::human
