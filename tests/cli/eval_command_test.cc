@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/run_command.h"
+#include "support/test_files.h"
 
 namespace hribench::cli {
 namespace {
@@ -23,19 +24,8 @@ using ::hribench::testing::count_lines;
 using ::hribench::testing::run_hribench;
 
 // A fresh folder per test and process.
-std::string temp_dir(const std::string& name) {
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("hribench_eval_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  return dir.string();
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+std::string temp_dir(const std::string& name) { return ::hribench::testing::temp_dir("eval", name); }
+using ::hribench::testing::read_text;
 
 const std::string kTinyRun = "eval --tasks I4 --policy noop --episodes 2 --seed 3 --horizon 2 --out ";
 

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/run_command.h"
+#include "support/test_files.h"
 
 namespace hribench::cli {
 namespace {
@@ -23,19 +24,9 @@ namespace fs = std::filesystem;
 using ::hribench::testing::count_lines;
 using ::hribench::testing::run_hribench;
 
-std::string temp_dir(const std::string& name) {
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("hribench_generate_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  return dir.string();
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+// A fresh folder per test and process.
+std::string temp_dir(const std::string& name) { return ::hribench::testing::temp_dir("generate", name); }
+using ::hribench::testing::read_text;
 
 const std::string kTinyPool =
     "generate --tasks I2 --candidates 4 --adapt 2 --eval 1 --test 0 --seed 5 --executable-by none --quiet --out ";

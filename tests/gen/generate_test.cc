@@ -15,6 +15,7 @@
 #include "core/json.h"
 #include "script/check.h"
 #include "script/sample.h"
+#include "support/test_files.h"
 
 namespace hribench::gen {
 namespace {
@@ -22,22 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const core::InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using ::hribench::testing::error_of;
+std::string read_file(const fs::path& path) { return ::hribench::testing::read_text(path); }
 
 class GenerateTest : public ::testing::Test {
  protected:

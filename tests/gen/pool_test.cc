@@ -10,21 +10,14 @@
 #include "core/errors.h"
 #include "script/check.h"
 #include "script/sample.h"
+#include "support/test_files.h"
 
 namespace hribench::gen {
 namespace {
 
 using ::testing::HasSubstr;
 
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const core::InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using ::hribench::testing::error_of;
 
 TEST(Pool, SplitNamesRoundTripAndOthersAreRefused) {
   for (const Split s : {Split::kAdapt, Split::kEval, Split::kTest}) {
