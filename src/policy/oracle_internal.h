@@ -1,0 +1,122 @@
+#pragma once
+// Internals shared by the expert's source files (policy/oracle*.cc): motion constants of the
+// skills, object geometry by kind, small vector helpers and the indexed observation. Not part
+// of the policy interface; include only from policy/oracle*.cc.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "human/skeleton.h"
+#include "model/model.h"
+#include "policy/oracle.h"
+
+namespace hribench::policy::oracle_internal {
+
+using core::Pose;
+using core::Quat;
+using core::Vec3;
+
+inline constexpr double kTableZ = model::kTableTopZ;
+inline constexpr double kHoldingWidth = 0.004;   // m: an opening above this with the gripper closed holds
+inline constexpr double kReachedDistance = 0.008;  // m: a segment's end counts as reached
+inline constexpr double kCloseTime = 0.4;        // s of full grip before checking it
+inline constexpr double kOpenTime = 0.5;         // s to open
+inline constexpr double kPreshapeTime = 0.3;     // s to pre-shape the fingers before closing
+// Then the commanded width shrinks slowly from kPreshapeGap over the object's width to
+// kSqueezeDepth under it (the fingers meet the object slower than the metrics' "moving"
+// gripper rate, 0.01 m/s), then drops to 0 (full grip force).
+inline constexpr double kPreshapeGap = 0.004;    // m
+inline constexpr double kSqueezeRate = 0.009;    // m/s
+inline constexpr double kSqueezeDepth = 0.006;   // m
+inline constexpr double kPalmDistance = 0.08;     // m: palm centre beyond the wrist along the forearm
+inline constexpr double kHousingClearance = -0.03;  // m: TCP vs a container top (housing 0.044 above)
+inline constexpr double kYieldSpeed = 0.6;         // m/s backing off from a disruption
+
+inline bool is_container(const std::string& kind) { return kind == "bin" || kind == "tray" || kind == "box"; }
+
+// Height of the TCP above an object's bottom for a top-down grasp (m), by kind.
+inline double grasp_height(const std::string& kind, const Vec3& half) {
+  if (kind == "bottle") return 0.18;   // the neck: the hand housing stays above the top
+  if (kind == "cup") return 0.055;
+  return half.z();
+}
+
+// Width of an object across the fingers of a top-down grasp (m).
+inline double grip_width(const std::string& kind, const Vec3& half) {
+  if (kind == "bottle") return 0.028;  // the neck
+  return 2 * std::min(half.x(), half.y());
+}
+
+// Rotation vector of R (axis * angle), angle in [0, pi].
+inline Vec3 rotation_vector(const Quat& q) {
+  const Eigen::AngleAxisd aa(q.normalized());
+  double angle = aa.angle();
+  Vec3 axis = aa.axis();
+  if (angle > core::kPi) {
+    angle = 2 * core::kPi - angle;
+    axis = -axis;
+  }
+  return axis * angle;
+}
+
+inline double wrap_quarter(double a) {  // into [-pi/4, pi/4) modulo pi/2
+  const double q = core::kPi / 2;
+  return a - q * std::floor((a + q / 2) / q);
+}
+
+inline Vec3 clamp_norm(const Vec3& v, double limit) {
+  const double n = v.norm();
+  return n > limit ? Vec3(v * (limit / n)) : v;
+}
+
+// Distance from point p to segment ab.
+inline double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b, Vec3& closest) {
+  const Vec3 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  closest = a + t * ab;
+  return (p - closest).norm();
+}
+
+
+// Index of an object by name, or npos.
+
+// Index of an object by name in `objects` (anything with .name), or npos.
+template <typename Objects>
+size_t index_of(const Objects& objects, const std::string& name) {
+  for (size_t k = 0; k < objects.size(); ++k) {
+    if (objects[k].name == name) return k;
+  }
+  return static_cast<size_t>(-1);
+}
+
+}  // namespace hribench::policy::oracle_internal
+
+namespace hribench::policy {
+
+// The observation, indexed by the expert's object order.
+struct ExpertPolicy::World {
+  double time = 0;
+  core::Pose X_WT;
+  double width = 0;
+  std::vector<core::Pose> objects;  // body frames (footprint centre, bottom), objects_ order
+  std::array<core::Vec3, kHumanKeypoints> joints;
+  double dt = 0.05;
+
+  core::Vec3 centre(size_t i, const core::Vec3& half) const { return objects[i] * core::Vec3(0, 0, half.z()); }
+  // Palm centre of a hand (0 left, 1 right) from the wrist and elbow.
+  core::Vec3 palm(int side) const {
+    const core::Vec3 wrist = joints[static_cast<size_t>(side == 0 ? human::index(human::Joint::kLeftWrist)
+                                                            : human::index(human::Joint::kRightWrist))];
+    const core::Vec3 elbow = joints[static_cast<size_t>(side == 0 ? human::index(human::Joint::kLeftElbow)
+                                                            : human::index(human::Joint::kRightElbow))];
+    const core::Vec3 forearm = wrist - elbow;
+    return forearm.norm() > 1e-6 ? core::Vec3(wrist + oracle_internal::kPalmDistance * forearm.normalized()) : wrist;
+  }
+};
+
+}  // namespace hribench::policy
