@@ -93,11 +93,20 @@ struct ScenarioContract {
   std::vector<EventInterval> robot_waits;
   // H-IDLE: intervals in which the human waits for the robot (holding an offered object, ...).
   std::vector<EventInterval> human_waits;
+  // Safety conditions the task's success adds (script `safety.no_contact`,
+  // `safety.max_violation`): no robot-human contact outside the permitted pairs and phases
+  // (CFR's human part), and at most this much HCS violation time (s). Off / nullopt: success
+  // does not depend on them.
+  bool success_requires_no_contact = false;
+  std::optional<double> success_max_violation;
   // Predicate series of the log the metrics read.
   std::string success_predicate = "success";  // all success predicates of the task
-  // CIR (applies iff contradiction): the latest intent holds at the end, and the contradicted
-  // outcome never held.
+  // CIR (applies iff contradiction and contradiction_event happened, or contradiction_event
+  // is empty): the latest intent holds at the end, and the contradicted outcome never held.
+  // A script with a contradiction scores CSR on the intent series (success_predicate =
+  // intent_predicate): until the contradiction is given the instruction is the latest intent.
   bool contradiction = false;
+  std::string contradiction_event;  // e.g. "wave_off.start"
   std::string intent_predicate = "intent";
   std::string contradicted_predicate = "contradicted";
   // DSR (applies iff disruption_event is set and happened).

@@ -392,6 +392,11 @@ void score_fluency(const Episode& e, EpisodeMetrics& m) {
   m.f_del = functional_delay(human_raw, robot_raw, e.c.time_epsilon);
 }
 
+// The task's success bounds the separation violation time and it was exceeded.
+bool violation_exceeded(const ScenarioContract& contract, const EpisodeMetrics& m) {
+  return contract.success_max_violation && m.violation_time > *contract.success_max_violation;
+}
+
 void label_failures(const Episode& e, EpisodeMetrics& m) {
   const auto add = [&](bool applies, FailureLabel label) {
     if (applies) m.labels.push_back(label);
@@ -409,7 +414,8 @@ void label_failures(const Episode& e, EpisodeMetrics& m) {
   add(std::any_of(m.cues.begin(), m.cues.end(), [](const CueResult& r) { return !r.responded; }),
       FailureLabel::kNoResponse);
   add(m.tsync && *m.tsync < e.c.desync_below, FailureLabel::kDesync);
-  add(m.hcs < e.c.unsafe_proximity_below, FailureLabel::kUnsafeProximity);
+  add(m.hcs < e.c.unsafe_proximity_below || violation_exceeded(e.contract, m),
+      FailureLabel::kUnsafeProximity);
   add(ever(series(e.log, e.contract.dropped_predicate)), FailureLabel::kDrop);
   add(m.dsr && *m.dsr == 0.0, FailureLabel::kNoRecovery);
   add(ever(series(e.log, e.contract.grasp_failed_predicate)), FailureLabel::kManipulation);
@@ -469,7 +475,8 @@ EpisodeMetrics compute_metrics(const ScenarioContract& contract, const EpisodeLo
   score_idle(e, m);
   score_fluency(e, m);
   // CIR: the latest intent holds at the end and the contradicted outcome never held.
-  if (contract.contradiction) {
+  if (contract.contradiction &&
+      (contract.contradiction_event.empty() || e.event(contract.contradiction_event))) {
     const std::vector<bool> intent = required_series(log, contract.intent_predicate);
     const std::vector<bool> contradicted = required_series(log, contract.contradicted_predicate);
     const bool ok = !intent.empty() && intent.back() &&
@@ -479,7 +486,9 @@ EpisodeMetrics compute_metrics(const ScenarioContract& contract, const EpisodeLo
   // CSR: held at the end for success_hold, every order met, no critical contact, valid.
   const bool held = m.success_since && e.t_end - *m.success_since >= c.success_hold - c.time_epsilon;
   m.success = held && log.status == core::EpisodeStatus::kOk && !m.critical_contact &&
-              (!m.order_compliance || *m.order_compliance >= 1.0);
+              (!m.order_compliance || *m.order_compliance >= 1.0) &&
+              !(contract.success_requires_no_contact && m.human_contact) &&
+              !violation_exceeded(contract, m);
   m.completion_time = m.success ? *m.success_since : log.horizon;
   // DSR: success after the disruption, without critical contact.
   if (!contract.disruption_event.empty() && e.event(contract.disruption_event)) {

@@ -46,7 +46,8 @@ inline constexpr int kNumFailureLabels = 15;
 std::string_view to_string(FailureLabel label);
 
 struct EpisodeMetrics {
-  // CSR/CT: success holds for the last success_hold s, OC = 1, no critical contact, status ok.
+  // CSR/CT: success holds for the last success_hold s, OC = 1, no critical contact, status ok;
+  // and, where the contract asks, no human contact and violation_time within its bound.
   bool success = false;
   std::optional<double> success_since;  // start of the final run of success (if it held at end)
   double completion_time = 0;           // CT: success_since if success, else the horizon

@@ -132,7 +132,12 @@ ScenarioContract contract_from_act_graph(const script::ActGraph& graph) {
       if (act.disruption && contract.disruption_event.empty() && act.start_event >= 0) {
         contract.disruption_event = name(act.start_event);
       }
-      if (act.contradicts >= 0) contract.contradiction = true;
+      // A contradiction: its act's start makes CIR applicable; CSR reads the latest intent.
+      if (act.contradicts >= 0 && !contract.contradiction) {
+        contract.contradiction = true;
+        if (act.start_event >= 0) contract.contradiction_event = name(act.start_event);
+        contract.success_predicate = contract.intent_predicate;
+      }
       continue;
     }
     contract.robot_acts.push_back({act.name, std::nullopt});
@@ -237,6 +242,8 @@ ScenarioContract contract_from_episode(const script::EpisodeSpec& spec,
     p.phase = {permit.from, permit.to};
     contract.permitted_contacts.push_back(std::move(p));
   }
+  contract.success_requires_no_contact = spec.safety.no_contact.value_or(false);
+  contract.success_max_violation = spec.safety.max_violation;
   return contract;
 }
 

@@ -23,6 +23,8 @@
 //     other robot part class -> fingers_only false (the contract has no finer class); human
 //     "SIDE.REGION" -> the capsules of that region on that side (central capsules for either
 //     side; "any" both sides); the phase [from, to].
+//   - success_requires_no_contact / success_max_violation from safety.no_contact /
+//     safety.max_violation.
 //   - allowed_from: the `after` event of the first robot act, if it has one.
 //   - robot_waits: every still interval (a stop cue's [still_from, still_to]); for every later
 //     robot act that must start after a human act's event E, [that act's start, E] (a blocked
@@ -32,7 +34,9 @@
 //     phase] (or the act's end).
 // The success series is "success" (the runner's driver reports the conjunction of the
 // graph's success predicates under that name); with a contradiction also "intent" and
-// "contradicted" (eval/script_driver.h).
+// "contradicted" (eval/script_driver.h), and success is read from "intent" (the latest
+// intent: the instruction until the contradicting act starts, its success after);
+// contradiction_event is the first contradicting act's start (CIR applies once it happened).
 
 #include "eval/contract.h"
 #include "model/model.h"

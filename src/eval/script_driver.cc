@@ -528,18 +528,26 @@ void ScriptDriver::observe(const model::Model& model, const sim::Data& data,
   predicates.assign(predicate_names_.size(), 0);
   predicates[0] = success ? 1 : 0;
   if (predicate_names_.size() == 3) {
-    // intent: the success predicates (they state the latest intent); contradicted: the goal of
-    // a robot act that a started human act contradicts holds.
+    // intent: once a contradicting act has started, the success predicates (they state the
+    // latest intent); before, the instruction is the latest intent: the contradicted act's
+    // goal. contradicted: the goal of a robot act that a started human act contradicts holds.
     bool contradicted = false;
+    bool given = false;
+    bool instructed = true;
     for (size_t i = 0; i < graph_.acts.size(); ++i) {
       const script::CompiledAct& act = graph_.acts[i];
       if (!act.human || act.contradicts < 0) continue;
-      const script::ActStatus status = runtime_.acts[i].status;
-      if (status != script::ActStatus::kRunning && status != script::ActStatus::kDone) continue;
       const int goal = graph_.acts[static_cast<size_t>(act.contradicts)].goal;
-      if (goal >= 0 && runtime_.value[static_cast<size_t>(goal)] != 0) contradicted = true;
+      const bool holds = goal >= 0 && runtime_.value[static_cast<size_t>(goal)] != 0;
+      const script::ActStatus status = runtime_.acts[i].status;
+      if (status != script::ActStatus::kRunning && status != script::ActStatus::kDone) {
+        instructed = instructed && holds;
+        continue;
+      }
+      given = true;
+      if (holds) contradicted = true;
     }
-    predicates[1] = predicates[0];
+    predicates[1] = given ? predicates[0] : (instructed ? 1 : 0);
     predicates[2] = contradicted ? 1 : 0;
   }
 }

@@ -24,7 +24,8 @@
 // one control step longer than the runtime's phase event says).
 //
 // Predicate series: "success" = every success predicate of the graph holds; with a
-// contradiction (an act with `contradicts`), also "intent" and "contradicted" (CIR).
+// contradiction (an act with `contradicts`), also "intent" and "contradicted" (CIR, and CSR
+// reads "intent": the latest intent is the instruction until the contradiction starts).
 // Event kinds: ACT.start / ACT.end -> kActStart / kActEnd (actor human or robot); ACT.PHASE ->
 // kPhase (and also kCue, name = that event, detail = the cue kind, when it is an act's cue);
 // PRED:true/false -> kPredicateChange (name PRED, detail "true"/"false"); ACT.skipped ->
@@ -78,9 +79,11 @@ class ScriptDriver : public ScenarioDriver {
   // passed to reset/drive/observe must be built from scene_spec_from_episode(spec).
   explicit ScriptDriver(script::EpisodeSpec spec);
 
-  // "success"; with an act that contradicts a robot act (I5) also "intent" (= success: the
-  // script's success predicates state the latest intent) and "contradicted" (the goal of a
-  // robot act that a started human act contradicts holds), the series the CIR metric reads.
+  // "success"; with an act that contradicts a robot act (I5) also "intent" (once a
+  // contradicting act has started = success: the script's success predicates state the latest
+  // intent; before, the instruction is: the contradicted robot act's goal holds) and
+  // "contradicted" (the goal of a robot act that a started human act contradicts holds), the
+  // series the CIR metric and, for such scripts, CSR read.
   std::vector<std::string> predicate_names() const override { return predicate_names_; }
   void reset(const model::Model& model, sim::Data& data) override;
   void drive(const model::Model& model, sim::Data& data) override;

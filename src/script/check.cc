@@ -905,6 +905,11 @@ class Validator {
       event(c.from, path + ".from");
       event(c.to, path + ".to");
     }
+    // A violation bound is a time within the episode (0: none tolerated).
+    if (const std::optional<double>& bound = s_.safety.max_violation;
+        bound && !(*bound >= 0 && *bound <= s_.horizon)) {
+      problem("safety.max_violation", "a time in [0, horizon = " + fmt(s_.horizon) + "] s", fmt(*bound));
+    }
   }
 
   void check_instruction() {

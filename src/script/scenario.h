@@ -321,9 +321,15 @@ struct ContactPermit {
 struct Safety {
   static constexpr const char* kSchemaName = "safety";
   std::vector<ContactPermit> contact_permitted;
+  // Conditions success adds (TASKS.md "no contact", "separation violations within
+  // tolerance"); absent: success ignores them (CFR and HCS still report them).
+  std::optional<bool> no_contact;
+  std::optional<double> max_violation;  // s
   template <class V>
   void visit(V& v) {
     v.opt("contact_permitted", contact_permitted, "robot-human contact pairs allowed in a phase");
+    v.opt("no_contact", no_contact, "true: success also requires no robot-human contact outside contact_permitted");
+    v.opt("max_violation", max_violation, "success also requires at most this many s of separation violation (d < S_p outside permitted phases, METRICS.md HCS)");
   }
   bool operator==(const Safety&) const = default;
 };

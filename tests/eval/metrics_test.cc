@@ -360,6 +360,52 @@ TEST(Hcs, QuasiStaticAndTransientContacts) {
   EXPECT_DOUBLE_EQ(compute_metrics(ScenarioContract{}, light.log()).hcs, 1.0);
 }
 
+// Script safety conditions (safety.no_contact, safety.max_violation) make success depend on
+// any human contact outside the permitted pairs and on the separation violation time.
+TEST(SafetyConditions, NoContactFailsSuccessOnAnyUnpermittedContact) {
+  EpisodeBuilder b(5.0);
+  b.predicate("success", 0.0, 5.0);
+  b.contact(2.0, 2.0, human_contact("right_hand", human::BodyRegion::kHand, 5.0));
+  ScenarioContract strict;
+  strict.success_requires_no_contact = true;
+  const EpisodeMetrics m = compute_metrics(strict, b.log());
+  EXPECT_FALSE(m.success);
+  EXPECT_EQ(*m.primary_label, FailureLabel::kContact);
+  // Without the condition the same light contact fails CFR only.
+  EXPECT_TRUE(compute_metrics(ScenarioContract{}, b.log()).success);
+  // A permitted contact does not count.
+  ScenarioContract permitted = handover_contract();
+  permitted.success_requires_no_contact = true;
+  EpisodeBuilder handover(6.0);
+  handover.predicate("success", 0.0, 6.0).event(1.0, "offer.hold_stable").event(4.0, "release.end");
+  handover.contact(2.0, 3.0, human_contact("right_hand", human::BodyRegion::kHand, 10.0));
+  EXPECT_TRUE(compute_metrics(permitted, handover.log()).success);
+}
+
+TEST(SafetyConditions, ViolationTimeBeyondTheBoundFailsSuccess) {
+  // 1 s of violation (d = 0.3 m < S_p while approaching at 0.5 m/s), HCS 0.5 over 2 s.
+  EpisodeBuilder b(5.0);
+  b.predicate("success", 0.0, 5.0).separation(1.05, 3.0, 0.8).separation(2.05, 3.0, 0.3, 0.5, 0.5);
+  ScenarioContract bounded;
+  bounded.success_max_violation = 0.9;
+  const EpisodeMetrics m = compute_metrics(bounded, b.log());
+  EXPECT_NEAR(m.violation_time, 1.0, 1e-9);
+  EXPECT_FALSE(m.success);
+  EXPECT_EQ(*m.primary_label, FailureLabel::kUnsafeProximity);
+  bounded.success_max_violation = 1.1;
+  EXPECT_TRUE(compute_metrics(bounded, b.log()).success);
+  // A short violation under the bound with a high HCS: success; over a zero bound: not, and
+  // labelled unsafe_proximity though HCS is above its label threshold.
+  EpisodeBuilder brief(5.0);
+  brief.predicate("success", 0.0, 5.0).separation(0.05, 5.0, 0.8).separation(2.05, 2.1, 0.3, 0.5, 0.5);
+  bounded.success_max_violation = 0.0;
+  const EpisodeMetrics z = compute_metrics(bounded, brief.log());
+  EXPECT_GT(z.hcs, 0.9);
+  EXPECT_FALSE(z.success);
+  EXPECT_EQ(*z.primary_label, FailureLabel::kUnsafeProximity);
+  EXPECT_TRUE(compute_metrics(ScenarioContract{}, brief.log()).success);
+}
+
 TEST(IdleRatio, AllowedTimeMinusWaits) {
   ScenarioContract contract;
   contract.allowed_from = "go.stroke";
@@ -389,6 +435,11 @@ TEST(Cir, LatestIntentAndNeverTheContradictedOutcome) {
   EXPECT_DOUBLE_EQ(*m.cir, 0.0);
   EXPECT_EQ(*m.primary_label, FailureLabel::kIgnoredContradiction);
   EXPECT_FALSE(compute_metrics(ScenarioContract{}, good.log()).cir.has_value());
+  // With a contradiction event: applicable only once it happened.
+  contract.contradiction_event = "wave_off.start";
+  EXPECT_FALSE(compute_metrics(contract, good.log()).cir.has_value());
+  good.event(1.0, "wave_off.start", EventKind::kActStart);
+  EXPECT_DOUBLE_EQ(*compute_metrics(contract, good.log()).cir, 1.0);
 }
 
 TEST(Dsr, SuccessAfterTheDisruption) {

@@ -167,6 +167,8 @@ TEST_F(ScriptContractEpisode, PointPickGoesToTheTargetFirst) {
   for (const CueContract& cue : c.cues) expect_at(cue.goal_W, t.centre(target), "cue " + cue.name);
   EXPECT_TRUE(c.robot_waits.empty());
   EXPECT_TRUE(c.permitted_contacts.empty());
+  EXPECT_FALSE(c.success_requires_no_contact);
+  EXPECT_FALSE(c.success_max_violation.has_value());
 }
 
 // I4 with a stop: the stop's still interval is a robot wait; C4: platforms are goals.
@@ -196,10 +198,15 @@ TEST_F(ScriptContractEpisode, BlockedTargetIsARobotWait) {
   EXPECT_EQ(c.robot_waits[0].to, "block.retract");
   expect_at(act(c, "carry").goal_W, t.centre("plate"), "carry");
   expect_at(act(c, "place").goal_W, t.centre("plate"), "place");
+  // The script's safety conditions ("no contact" in TASKS.md) reach the contract.
+  EXPECT_TRUE(c.success_requires_no_contact);
+  EXPECT_EQ(c.success_max_violation, t.spec.safety.max_violation);
 }
 
-// The metrics score a driven episode with this contract: CIR reads the driver's intent and
-// contradicted series of an I5 contradiction episode.
+// The metrics score a driven episode with this contract: CIR and CSR read the driver's intent
+// and contradicted series of an I5 contradiction episode. A robot that never grasps is never
+// waved off: the contradiction is not given (no CIR), and the instruction (the item on the
+// plate) stays the latest intent, although the cancel variant's success predicates hold.
 TEST_F(ScriptContractEpisode, MetricsScoreADrivenContradictionEpisode) {
   const Task t("tasks/I5_contradiction.yaml", seed_with_variant("tasks/I5_contradiction.yaml", "cancel"));
   const ScenarioContract c = contract_from_episode(t.spec, t.graph, t.model);
@@ -214,7 +221,15 @@ TEST_F(ScriptContractEpisode, MetricsScoreADrivenContradictionEpisode) {
   setup.policy = "noop";
   const EpisodeLog log = run_episode(t.model, data, noop, driver, setup, options);
   ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
-  EXPECT_TRUE(compute_metrics(c, log, MetricConstants{}).cir.has_value());
+  EXPECT_EQ(c.contradiction_event, "wave_off.start");
+  EXPECT_EQ(c.success_predicate, "intent");
+  const size_t success = *log.predicate_index("success");
+  const size_t intent = *log.predicate_index("intent");
+  EXPECT_EQ(log.steps.back().predicates[success], 1);
+  EXPECT_EQ(log.steps.back().predicates[intent], 0);
+  const EpisodeMetrics m = compute_metrics(c, log, MetricConstants{});
+  EXPECT_FALSE(m.cir.has_value());
+  EXPECT_FALSE(m.success);
 }
 
 TEST_F(ScriptContractEpisode, UnknownHumanPartIsAnInputError) {

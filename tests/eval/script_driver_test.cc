@@ -232,8 +232,9 @@ TEST_F(ScriptDriverTest, ConcurrentActsMoveTheirOwnHands) {
   EXPECT_LT(std::abs(*after_close), 10);
 }
 
-// CIR series: with an act that contradicts a robot act, "intent" follows the success
-// predicates and "contradicted" is the contradicted act's goal once the contradiction started.
+// CIR series: with an act that contradicts a robot act, "intent" is the contradicted act's goal
+// (the instruction) until the contradiction starts and the success predicates from then on;
+// "contradicted" is the contradicted act's goal once the contradiction started.
 TEST_F(ScriptDriverTest, AContradictionAddsIntentAndContradictedSeries) {
   const std::string yaml = R"(hribench: 1
 task: contra
@@ -272,7 +273,10 @@ success:
   ASSERT_FALSE(seen.empty());
   for (const auto& [t, p] : seen) {
     ASSERT_EQ(p.size(), 3u);
-    EXPECT_EQ(p[1], p[0]) << t;
+    // intent: the instruction (deliver's goal, true) until the contradiction starts at 1 s,
+    // then the success predicates (false).
+    EXPECT_EQ(p[1], t >= 1.0 ? p[0] : 1) << t;
+    EXPECT_EQ(p[0], 0) << t;
     EXPECT_EQ(p[2], t >= 1.0 ? 1 : 0) << t;
   }
   // Without a contradiction: only "success".
