@@ -135,9 +135,10 @@ bool ExpertPolicy::step_done(size_t i) const {
   switch (step.kind) {
     case StepKind::kPlace:
     case StepKind::kPutBack:
+    case StepKind::kOffer:
     case StepKind::kRelease:
     case StepKind::kHome:
-      return false;  // the skill finishes its retreat / stays
+      return false;  // the skill finishes its retreat / stays / brings it into the palm
     case StepKind::kPick:
       return ended && !(i == current_ && phase_ == 2);  // a grasp being closed is finished
     default:
@@ -305,11 +306,12 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
     double extra = 0;
   };
   const auto joint = [&](Joint j) { return world.joints[static_cast<size_t>(human::index(j))]; };
+  const auto arm = [&](int side) { return receiving_hand(side) ? -1e9 : 0.0; };
   const std::array<Segment, 9> body = {
-      Segment{joint(Joint::kLeftElbow), world.palm(0), 0},
-      Segment{joint(Joint::kRightElbow), world.palm(1), 0},
-      Segment{joint(Joint::kLeftShoulder), joint(Joint::kLeftElbow), 0},
-      Segment{joint(Joint::kRightShoulder), joint(Joint::kRightElbow), 0},
+      Segment{joint(Joint::kLeftElbow), world.palm(0), arm(0)},
+      Segment{joint(Joint::kRightElbow), world.palm(1), arm(1)},
+      Segment{joint(Joint::kLeftShoulder), joint(Joint::kLeftElbow), arm(0)},
+      Segment{joint(Joint::kRightShoulder), joint(Joint::kRightElbow), arm(1)},
       Segment{joint(Joint::kNeck), joint(Joint::kHead), 0.06},
       Segment{joint(Joint::kHead), joint(Joint::kHead) + Vec3(0, 0, 0.1), 0.06},
       Segment{joint(Joint::kSpine3), joint(Joint::kNeck), 0.08},

@@ -90,6 +90,9 @@ class ExpertPolicy : public Policy {
   void run_handover(const World& world, const PlanStep& step);
   // The human act that receives an object (primitive receive), or "".
   std::string receiving_act(const std::string& object) const;
+  // Hand `side` (0 left, 1 right) is held out to ask for or receive an object (a give_me or
+  // receive act with that hand is running): the handover's goal, not an intrusion.
+  bool receiving_hand(int side) const;
   // A logged predicate held(human.H, object) (alone, not within a conjunction) is true.
   bool human_holds(const std::string& object) const;
   void set_phase(int phase, double time);
