@@ -67,6 +67,7 @@ void ExpertPolicy::reset(const EpisodeInfo& info) {
   phase_ = 0;
   phase_start_ = 0;
   latched_valid_ = false;
+  believed_.clear();
   speed_ = kMaxSpeed;
   gripper_ = 1.0;
   velocity_ = Vec3::Zero();
@@ -168,14 +169,23 @@ void ExpertPolicy::begin_step(size_t i, const World& world) {
   latched_valid_ = false;
   latched_target_valid_ = false;
   spot_valid_ = false;
+  // The baselines' world model: refreshed here until a disruption has started, then kept.
+  bool disrupted = false;
+  for (const auto& entry : episode_->acts) {
+    disrupted = disrupted || (entry.value.actor == "human" && entry.value.disruption && seen(entry.name + ".start"));
+  }
+  if (competence_ == Competence::kOracle || !disrupted || believed_.size() != objects_.size()) {
+    believed_.clear();
+    for (size_t k = 0; k < objects_.size(); ++k) believed_.push_back(world.objects[k].translation);
+  }
   if (i < plan_.size()) {
     for (size_t k = 0; k < objects_.size(); ++k) {
       if (objects_[k].name == plan_[i].object) {
-        latched_ = world.objects[k].translation;
+        latched_ = believed_[k];
         latched_valid_ = true;
       }
       if (objects_[k].name == plan_[i].target) {
-        latched_target_ = world.objects[k].translation;
+        latched_target_ = believed_[k];
         latched_target_valid_ = true;
       }
     }
@@ -232,6 +242,16 @@ ActionChunk ExpertPolicy::act(const Observation& observation) {
                               ? Vec3(tcp.x(), tcp.y(), kYieldZ)
                               : Vec3(std::min(tcp.x(), kYieldX), std::clamp(tcp.y(), -0.35, 0.35),
                                      std::max(tcp.z(), kYieldZ));
+    // Wait beside the intruding hand, not in front of it: sideways, away from each palm.
+    for (int side = 0; side < 2 && tcp.z() >= kYieldZ - 0.03; ++side) {
+      const Vec3 palm = world.palm(side);
+      const double dx = target_.translation.x() - palm.x();
+      const double dy = target_.translation.y() - palm.y();
+      if (std::hypot(dx, dy) >= kYieldClearance) continue;
+      const double away = dy != 0 ? std::copysign(1.0, dy) : (palm.y() > 0 ? -1.0 : 1.0);
+      target_.translation.y() = std::clamp(
+          palm.y() + away * std::sqrt(kYieldClearance * kYieldClearance - dx * dx), -0.45, 0.45);
+    }
     speed_ = kYieldSpeed;
   } else if (hold) {
     // Stop where the robot is, the gripper as commanded.

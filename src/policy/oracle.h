@@ -48,6 +48,8 @@ inline constexpr double kResumeDistance = 0.48;
 // Where the oracle yields while a disruption act runs: TCP x at most kYieldX, z at least kYieldZ.
 inline constexpr double kYieldX = 0.30;
 inline constexpr double kYieldZ = 1.0;
+// ... and at least kYieldClearance (horizontally) from each palm, moving sideways (|y| <= 0.45).
+inline constexpr double kYieldClearance = 0.45;
 
 class ExpertPolicy : public Policy {
  public:
@@ -122,6 +124,9 @@ class ExpertPolicy : public Policy {
   bool latched_valid_ = false;
   core::Vec3 latched_target_ = core::Vec3::Zero();  // the target object's pose then
   bool latched_target_valid_ = false;
+  // Baselines: object positions (objects_ order) as last refreshed at a step's start; not
+  // refreshed once a disruption act has started (no re-planning after a disruption).
+  std::vector<core::Vec3> believed_;
   core::Vec3 spot_ = core::Vec3::Zero();  // the chosen placing spot (centre of the object)
   bool spot_valid_ = false;
   double control_dt_ = 0.05;
