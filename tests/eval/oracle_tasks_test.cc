@@ -77,9 +77,10 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/C2_handover_r2h.yaml", 1}));
 
 // The baselines fail the Intruder tasks for the reason their missing competence predicts:
-// X2 no re-plan (grasps where the object was, into the person's hand), X3 no stand-down
-// (reaches for the object the person is placing), X4 no waiting for the hand to clear
-// (places before the retract: ordering violated).
+// X1 no yielding (carries on past the intruding hand: separation violated beyond the script's
+// tolerance), X2 no re-plan (grasps where the object was, into the person's hand, and never
+// goes to its new place), X3 no stand-down (reaches for the object the person is placing),
+// X4 no waiting for the hand to clear (places before the retract: ordering violated).
 struct BaselineCase {
   const char* file;
   uint64_t seed;
@@ -88,6 +89,7 @@ struct BaselineCase {
 
 TEST(OracleBaselines, ReactiveAndBlindFailTheIntruderTasksWithTheExpectedLabel) {
   const BaselineCase cases[] = {
+      {"tasks/X1_intrusion_yield.yaml", 0, FailureLabel::kUnsafeProximity},
       {"tasks/X2_object_moved.yaml", 2, FailureLabel::kNoRecovery},
       {"tasks/X3_someone_else_places.yaml", 0, FailureLabel::kContact},
       {"tasks/X4_blocked_target.yaml", 0, FailureLabel::kPremature},
