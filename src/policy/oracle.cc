@@ -139,6 +139,7 @@ bool ExpertPolicy::step_done(size_t i) const {
     case StepKind::kOffer:
     case StepKind::kRelease:
     case StepKind::kHome:
+    case StepKind::kCoCarry:
       return false;  // the skill finishes its retreat / stays / brings it into the palm
     case StepKind::kPick:
       return ended && !(i == current_ && phase_ == 2);  // a grasp being closed is finished
@@ -295,6 +296,9 @@ void ExpertPolicy::run_step(const World& world) {
     case StepKind::kHome:
       run_home(world);
       break;
+    case StepKind::kCoCarry:
+      run_co_carry(world, step);
+      break;
     case StepKind::kStill:
       speed_ = 0;
       break;
@@ -307,6 +311,10 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
   if (current_ < plan_.size()) {
     const StepKind kind = plan_[current_].kind;
     if (kind == StepKind::kOffer || kind == StepKind::kRelease || kind == StepKind::kApproach) return 1.0;
+    // Carrying an object together: the person is the partner at its other end (object-mediated,
+    // the hands 0.5 m away along it) and the robot's end moves only as theirs does; stopping
+    // would tilt or drop it.
+    if (kind == StepKind::kCoCarry) return 1.0;
     // Taking an object from a person's hand: the hand is the goal, not an intrusion.
     const size_t k = index_of(objects_, plan_[current_].object);
     if (k < objects_.size()) {

@@ -90,6 +90,8 @@ class ExpertPolicy : public Policy {
   // farthest from the objects already there, preferring the centre.
   core::Vec3 free_spot(const World& world, size_t object, size_t target, const core::Pose& X_WC) const;
   void run_handover(const World& world, const PlanStep& step);
+  // Co-carry (oracle_co_lift.cc): the robot's end of an object the person carries with it.
+  void run_co_carry(const World& world, const PlanStep& step);
   // The human act that receives an object (primitive receive), or "".
   std::string receiving_act(const std::string& object) const;
   // Hand `side` (0 left, 1 right) is held out to ask for or receive an object (a give_me or

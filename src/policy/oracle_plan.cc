@@ -103,6 +103,35 @@ std::optional<PlanStep> step_of_goal(const std::string& source,
   return step;
 }
 
+// Objects the person lifts together with the robot: named by a human act of primitive `lift`.
+std::vector<std::string> co_carried(const script::EpisodeSpec& episode) {
+  std::vector<std::string> names;
+  for (const auto& entry : episode.acts) {
+    const script::Act& act = entry.value;
+    if (act.actor != "human" || !act.motion || !act.motion->primitive || act.motion->primitive->value() != "lift") continue;
+    for (const auto& param : act.motion->params) {
+      const script::Expr& e = param.value.scalar.expr;
+      if (param.name == "object" && e.kind == script::Expr::Kind::kString) names.push_back(e.text);
+    }
+  }
+  return names;
+}
+
+// The steps on a co-carried object become co-carry steps, all with the surface it goes onto.
+void mark_co_carry(const script::EpisodeSpec& episode, std::vector<PlanStep>& plan) {
+  for (const std::string& object : co_carried(episode)) {
+    std::string target;
+    for (const PlanStep& step : plan) {
+      if (step.object == object && !step.target.empty()) target = step.target;
+    }
+    for (PlanStep& step : plan) {
+      if (step.object != object) continue;
+      step.kind = StepKind::kCoCarry;
+      step.target = target;
+    }
+  }
+}
+
 }  // namespace
 
 std::string_view to_string(Competence competence) {
@@ -124,6 +153,7 @@ std::string_view to_string(StepKind kind) {
     case StepKind::kRelease: return "release";
     case StepKind::kApproach: return "approach";
     case StepKind::kHome: return "home";
+    case StepKind::kCoCarry: return "co_carry";
     case StepKind::kStill: return "still";
   }
   return "?";
@@ -202,6 +232,7 @@ std::vector<PlanStep> make_plan(const script::EpisodeSpec& episode, Competence c
     }
     plan.push_back(*step);
   }
+  mark_co_carry(episode, plan);
   return plan;
 }
 

@@ -37,6 +37,9 @@ enum class StepKind {
   kRelease,       // open the gripper once the hand `target` holds `object`, then withdraw
   kApproach,      // bring the open gripper near `object` (within `distance`)
   kHome,          // return to the start pose, gripper open, and stay still
+  kCoCarry,       // hold `object` together with the human and follow the human's end until it
+                  // rests on `target`, then release (one step per robot act on an object the
+                  // person lifts with the robot: a human act of primitive `lift` names it)
   kStill,         // stay still
 };
 std::string_view to_string(StepKind kind);

@@ -74,7 +74,8 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/X2_object_moved.yaml", 0},
                                            TaskCase{"tasks/X3_someone_else_places.yaml", 0},
                                            TaskCase{"tasks/X4_blocked_target.yaml", 0},
-                                           TaskCase{"tasks/C2_handover_r2h.yaml", 1}));
+                                           TaskCase{"tasks/C2_handover_r2h.yaml", 1},
+                                           TaskCase{"tasks/C4_co_lift.yaml", 0}));
 
 // The baselines fail the Intruder tasks for the reason their missing competence predicts:
 // X1 no yielding (carries on past the intruding hand: separation violated beyond the script's
@@ -110,6 +111,14 @@ TEST(OracleBaselines, StopGoOrderIsKeptByReactiveAndBrokenByBlind) {
   const Outcome reactive = run_task("tasks/I4_stop_go.yaml", 1, "reactive");
   EXPECT_TRUE(reactive.metrics.success) << describe(reactive);
   const Outcome blind = run_task("tasks/I4_stop_go.yaml", 1, "blind");
+  EXPECT_FALSE(blind.metrics.success);
+  EXPECT_EQ(blind.metrics.primary_label, FailureLabel::kPremature) << describe(blind);
+}
+
+// C4: blind lifts its end of the plank as soon as it holds it, before the person's lift cue
+// (reactive waits for it and lifts with the person).
+TEST(OracleBaselines, BlindLiftsThePlankBeforeThePersonsCue) {
+  const Outcome blind = run_task("tasks/C4_co_lift.yaml", 0, "blind");
   EXPECT_FALSE(blind.metrics.success);
   EXPECT_EQ(blind.metrics.primary_label, FailureLabel::kPremature) << describe(blind);
 }
