@@ -883,8 +883,15 @@ void build_offer(PlanBuilder& b) {
   b.begin();
   const Zone z = b.zone();
   const Vec3 C = b.to_F(z.center);
-  const Vec3 fingers = horizontal_dir(b.shoulder_F(h), C);
-  const Quat rot = palm_choice(h, b.choice("palm"), fingers);
+  const Vec3 toward = horizontal_dir(b.shoulder_F(h), C);
+  // The held object is held out upright (it sits in the hand as it was at the start: upright
+  // with the hand hanging): the hand only turns about the vertical, toward the zone, and with
+  // `palm: up` 30 degrees further, the palm toward the taker. (A palm rotated like
+  // palm_choice's tilted the object 40-90 degrees, 15 degrees still put its rim under a
+  // finger: no top-down grasp could take it.)
+  const double turn = b.choice("palm") == "up" ? (h == Side::kLeft ? 30.0 : -30.0) * kDeg : 0.0;
+  const Quat rot =
+      (core::axis_angle(Vec3::UnitZ(), std::atan2(toward.y(), toward.x()) + turn) * b.key(h).rotation).normalized();
   // The reach ends slightly past the centre (1 cm, or a fifth of the radius), then settles.
   const Vec3 from = b.key(h).palm;
   const Vec3 past = C + std::min(0.01, 0.2 * z.radius) * (C - from).normalized();

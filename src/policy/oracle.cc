@@ -133,6 +133,8 @@ bool ExpertPolicy::step_done(size_t i) const {
   if (internal_done_[i]) return true;
   if (step.act.empty()) return false;
   const bool ended = seen(step.act + ".end");
+  // Taking from a hand: run_take finishes them (an open gripper touching it is not a grasp).
+  if ((step.kind == StepKind::kPick || step.kind == StepKind::kApproach) && starts_in_hand(step.object)) return false;
   switch (step.kind) {
     case StepKind::kPlace:
     case StepKind::kPutBack:
@@ -277,6 +279,7 @@ ActionChunk ExpertPolicy::act(const Observation& observation) {
 
 void ExpertPolicy::run_step(const World& world) {
   const PlanStep& step = plan_[current_];
+  if (run_take(world, step)) return;
   switch (step.kind) {
     case StepKind::kPick:
       run_pick(world, step.object, true);

@@ -97,6 +97,13 @@ class ExpertPolicy : public Policy {
   // Hand `side` (0 left, 1 right) is held out to ask for or receive an object (a give_me or
   // receive act with that hand is running): the handover's goal, not an intrusion.
   bool receiving_hand(int side) const;
+  // The logged predicate `name` is true now (false when not logged).
+  bool predicate_true(const std::string& name) const;
+  // `object` starts in a human hand (the scene's held_by).
+  bool starts_in_hand(const std::string& object) const;
+  // Taking an object a person holds out (oracle_handover.cc): the approach and grasp steps of
+  // an object that starts in a human hand; false when `step` is not such a step.
+  bool run_take(const World& world, const PlanStep& step);
   // A logged predicate held(human.H, object) (alone, not within a conjunction) is true.
   bool human_holds(const std::string& object) const;
   void set_phase(int phase, double time);

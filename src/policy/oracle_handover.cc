@@ -16,7 +16,124 @@ namespace {
 // short of a shown palm (horizontally, toward the robot) until the hand opens.
 constexpr double kOfferAbove = 0.10;
 constexpr double kOfferStandoff = 0.12;
+// Taking from a hand: the gripper waits this far short of the object (horizontally, toward the
+// robot) and this high above its grasp point while the person reaches, then comes in over the
+// grasp point from kTakeAbove.
+constexpr double kTakeStandoff = 0.14;
+constexpr double kTakeAbove = 0.07;
 }  // namespace
+
+bool ExpertPolicy::starts_in_hand(const std::string& object) const {
+  for (const auto& entry : episode_->scene.objects) {
+    if (entry.name == object && entry.value.held_by) return entry.value.held_by->value().rfind("human.", 0) == 0;
+  }
+  return false;
+}
+
+// Phases 40..44: wait short of the offered object (approach), come over its grasp point, down
+// to it, squeeze, grip, then hold it until the person lets go (the next step).
+bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
+  if ((step.kind != StepKind::kApproach && step.kind != StepKind::kPick) || !starts_in_hand(step.object)) {
+    return false;
+  }
+  const size_t k = index_of(objects_, step.object);
+  HRIB_CHECK(k < objects_.size()) << step.object;
+  const ObjectGeometry& g = objects_[k];
+  const Pose& X_WO = world.objects[k];
+  const Vec3 tcp = world.X_WT.translation;
+  const Vec3 centre = world.centre(k, g.half_extents);
+  // The grasp point along the object's own axis (a held object may lean in the hand).
+  const Vec3 grasp = X_WO * Vec3(0, 0, grasp_height(g.kind, g.half_extents));
+  // The fingers close across the object, clear of the hand beside it: the finger axis is
+  // perpendicular to the horizontal direction from the nearer wrist to the object (the offered
+  // object sits beside the palm, off its normal; a cube: the face-aligned yaw closest to that).
+  const Vec3 wrist_l = world.joints[static_cast<size_t>(human::index(human::Joint::kLeftWrist))];
+  const Vec3 wrist_r = world.joints[static_cast<size_t>(human::index(human::Joint::kRightWrist))];
+  const Vec3 wrist = (wrist_l - centre).norm() < (wrist_r - centre).norm() ? wrist_l : wrist_r;
+  Vec3 from_palm = centre - wrist;
+  from_palm.z() = 0;
+  const Vec3 y_home = home_.rotation * Vec3::UnitY();
+  double yaw = 0;
+  if (from_palm.norm() > 0.01) {
+    // Finger axis (the hand's y) perpendicular to from_palm.
+    yaw = wrap_quarter(std::atan2(from_palm.x(), -from_palm.y()) - std::atan2(y_home.y(), y_home.x()));
+    if (g.kind != "cube") yaw = std::atan2(from_palm.x(), -from_palm.y()) - std::atan2(y_home.y(), y_home.x());
+  }
+  if (g.kind == "cube") {
+    const Vec3 x_obj = X_WO.rotation * Vec3::UnitX();
+    const double faces = std::atan2(x_obj.y(), x_obj.x()) - std::atan2(y_home.y(), y_home.x()) + core::kPi / 2;
+    yaw = faces + wrap_quarter(yaw - faces);
+  }
+  // Any yaw within a half turn of home (the fingers are symmetric).
+  yaw = std::remainder(yaw, core::kPi);
+  target_.rotation = (core::axis_angle(Vec3::UnitZ(), yaw) * home_.rotation).normalized();
+
+  // The person reaches: wait short of the object; it is held still (offer.hold): come in.
+  bool offered = competence_ == Competence::kBlind;
+  for (const auto& entry : episode_->acts) {
+    if (entry.value.actor == "human" && entry.value.motion && entry.value.motion->primitive &&
+        entry.value.motion->primitive->value() == "offer" && seen(entry.name + ".hold")) {
+      offered = true;
+    }
+  }
+  const Vec3 toward = Vec3(grasp.x(), grasp.y(), 0).normalized();
+  const Vec3 above = grasp + Vec3(0, 0, kTakeAbove);
+  if (phase_ < 40) set_phase(40, world.time);
+  const double elapsed = world.time - phase_start_;
+  // Both fingers on it: the person may let go any moment (after 0.2 s), so close now.
+  const bool touching = predicate_true("grasped(robot, " + step.object + ")");
+  switch (phase_) {
+    case 40:  // approach: short of the object while the person reaches; take: over the grasp point
+      gripper_ = 1.0;
+      speed_ = kMaxSpeed;
+      if (step.kind == StepKind::kApproach) {
+        target_.translation = above - kTakeStandoff * toward;
+        if (offered) internal_done_[current_] = 1;  // the take comes in from here
+        break;
+      }
+      target_.translation = above;
+      if ((tcp - above).norm() < 3 * kReachedDistance && world.width > 0.07) set_phase(41, world.time);
+      break;
+    case 41:  // down to the grasp point, open
+      gripper_ = 1.0;
+      speed_ = kFineSpeed * 1.5;
+      target_.translation = grasp;
+      if ((tcp - grasp).norm() < kReachedDistance || (elapsed > 2.0 && (tcp - grasp).norm() < 0.02)) {
+        set_phase(42, world.time);
+      }
+      if (touching) set_phase(43, world.time);  // wedged on the way down: grip there
+      break;
+    case 42: {  // pre-shape just wider than the object, then squeeze slowly until both fingers touch
+      // (the grasp ends the take act; the gripper must not be moving then, as the place may
+      // start only once the person has let go)
+      const double w = grip_width(g.kind, g.half_extents);
+      const double command = w + kPreshapeGap - kSqueezeRate * std::max(0.0, elapsed - kPreshapeTime);
+      gripper_ = std::clamp(command / kMaxGripperWidth, 0.0, 1.0);
+      speed_ = 0;
+      target_.translation = grasp;
+      if (touching || command < w - kSqueezeDepth) set_phase(43, world.time);
+      break;
+    }
+    case 43:  // full grip force, then check that something is between the fingers
+      gripper_ = 0.0;
+      speed_ = 0;
+      target_.translation = tcp;
+      if (elapsed > kCloseTime) {
+        if (world.width > kHoldingWidth) {
+          set_phase(44, world.time);
+          internal_done_[current_] = 1;
+        } else {
+          set_phase(40, world.time);  // missed: open and come in again
+        }
+      }
+      break;
+    default:  // holding, still, until the person lets go
+      gripper_ = 0.0;
+      speed_ = 0;
+      break;
+  }
+  return true;
+}
 
 void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
   const size_t k = index_of(objects_, step.object);
@@ -86,6 +203,13 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     target_.translation = Vec3(tcp.x() - 0.15, tcp.y(), tcp.z() + 0.05);
     if (elapsed > 1.0) internal_done_[current_] = 1;
   }
+}
+
+bool ExpertPolicy::predicate_true(const std::string& name) const {
+  for (const auto& [logged, value] : predicates_) {
+    if (logged == name) return value;
+  }
+  return false;
 }
 
 bool ExpertPolicy::human_holds(const std::string& object) const {
