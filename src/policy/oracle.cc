@@ -279,6 +279,7 @@ ActionChunk ExpertPolicy::act(const Observation& observation) {
 
 void ExpertPolicy::run_step(const World& world) {
   const PlanStep& step = plan_[current_];
+  if (run_box_step(world, step)) return;
   if (run_take(world, step)) return;
   switch (step.kind) {
     case StepKind::kPick:
@@ -301,6 +302,9 @@ void ExpertPolicy::run_step(const World& world) {
       break;
     case StepKind::kCoCarry:
       run_co_carry(world, step);
+      break;
+    case StepKind::kLeave:
+      run_leave(world, step);
       break;
     case StepKind::kStill:
       speed_ = 0;
@@ -337,7 +341,9 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
     double extra = 0;
   };
   const auto joint = [&](Joint j) { return world.joints[static_cast<size_t>(human::index(j))]; };
-  const auto arm = [&](int side) { return receiving_hand(side) ? -1e9 : 0.0; };
+  // The arm holding a box's lid open is expected near: it only has to be kept clear of (below).
+  const int lid = lid_arm(world);
+  const auto arm = [&](int side) { return side == lid || receiving_hand(side) ? -1e9 : 0.0; };
   const std::array<Segment, 9> body = {
       Segment{joint(Joint::kLeftElbow), world.palm(0), arm(0)},
       Segment{joint(Joint::kRightElbow), world.palm(1), arm(1)},
@@ -370,6 +376,7 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
     return 0;
   }
   if (best < kStopDistance || (ssm_stopped_ && best < kResumeDistance)) return 0;
+  if (lid >= 0 && lid_arm_distance(world, robot, lid) < kLidArmClearance) return 0;
   if (best < kSlowDistance) return 0.3 + 0.7 * (best - kStopDistance) / (kSlowDistance - kStopDistance);
   return 1.0;
 }

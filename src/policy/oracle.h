@@ -21,6 +21,7 @@
 //              began); pauses a contradicted step when the contradicting act starts.
 // Deterministic: actions are a function of the episode and the observations.
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -45,6 +46,9 @@ inline constexpr double kSlowDistance = 0.60;
 inline constexpr double kStopDistance = 0.42;
 inline constexpr double kRetreatDistance = 0.34;
 inline constexpr double kResumeDistance = 0.48;
+// The arm holding a box's lid open for the robot is expected near the box (the robot works
+// under it): instead of the distances above, the robot stops closer than this to it.
+inline constexpr double kLidArmClearance = 0.10;
 // Where the oracle yields while a disruption act runs: TCP x at most kYieldX, z at least kYieldZ.
 inline constexpr double kYieldX = 0.30;
 inline constexpr double kYieldZ = 1.0;
@@ -84,6 +88,11 @@ class ExpertPolicy : public Policy {
   // The manipulation skill of the current step: sets target_ (TCP pose), speed_ and gripper_.
   void run_step(const World& world);
   void run_pick(const World& world, const std::string& object, bool close);
+  // Grasp phase 2 at `grasp`: pre-shape `width` + kPreshapeGap for `preshape` s, squeeze at
+  // `rate` (m/s) to kSqueezeDepth under it, grip `grip` s, then phase 3 if something is
+  // between the fingers, else phase 0 (a retry).
+  void squeeze(const World& world, double width, const core::Vec3& grasp, double preshape, double rate,
+               double grip);
   void run_place(const World& world, const PlanStep& step);
   void run_home(const World& world);
   // Where to put `object` on/in `target` (pose X_WC): the grid point of the target's footprint
@@ -92,6 +101,19 @@ class ExpertPolicy : public Policy {
   void run_handover(const World& world, const PlanStep& step);
   // Co-carry (oracle_co_lift.cc): the robot's end of an object the person carries with it.
   void run_co_carry(const World& world, const PlanStep& step);
+  // Box retrieval (oracle_box.cc): waiting beside a lidded box, picking from inside it; false
+  // when `step` is neither (the generic skills run it).
+  bool run_box_step(const World& world, const PlanStep& step);
+  void run_box_wait(const World& world, size_t box, double near);
+  void run_box_pick(const World& world, size_t object, size_t box);
+  // Holding `object`, straight up until farther than the step's distance from its target.
+  void run_leave(const World& world, const PlanStep& step);
+  // The box (objects_ index) `object` lies in (or just above), objects_.size() if none.
+  size_t box_containing(const World& world, size_t object) const;
+  // The side (0 left, 1 right) of the person's arm holding a box's lid open, or -1.
+  int lid_arm(const World& world) const;
+  // Distance (m) from `points` to that arm (upper arm, forearm, the hand hanging from the wrist).
+  double lid_arm_distance(const World& world, const std::array<core::Vec3, 4>& points, int side) const;
   // The human act that receives an object (primitive receive), or "".
   std::string receiving_act(const std::string& object) const;
   // Hand `side` (0 left, 1 right) is held out to ask for or receive an object (a give_me or

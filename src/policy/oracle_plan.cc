@@ -95,6 +95,15 @@ std::optional<PlanStep> step_of_goal(const std::string& source,
   } else if (const Predicate* grasped = find(Atom::kGrasped)) {
     step.kind = StepKind::kPick;
     step.object = object(grasped->args[1]);
+    // grasped(robot, X) and not near(robot, C, d): keep holding X, get away from C.
+    for (const auto& [p, negated] : atoms) {
+      if (p->atom == Atom::kNear && negated && p->args[0].kind == Arg::Kind::kRobot &&
+          p->args[1].kind == Arg::Kind::kObject) {
+        step.kind = StepKind::kLeave;
+        step.target = object(p->args[1]);
+        step.distance = p->args[2].number;
+      }
+    }
   } else if (find(Atom::kStill)) {
     step.kind = StepKind::kStill;
   } else {
@@ -152,6 +161,7 @@ std::string_view to_string(StepKind kind) {
     case StepKind::kOffer: return "offer";
     case StepKind::kRelease: return "release";
     case StepKind::kApproach: return "approach";
+    case StepKind::kLeave: return "leave";
     case StepKind::kHome: return "home";
     case StepKind::kCoCarry: return "co_carry";
     case StepKind::kStill: return "still";

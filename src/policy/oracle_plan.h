@@ -36,6 +36,7 @@ enum class StepKind {
   kOffer,         // bring `object` to the human hand `target` ("human.left|right")
   kRelease,       // open the gripper once the hand `target` holds `object`, then withdraw
   kApproach,      // bring the open gripper near `object` (within `distance`)
+  kLeave,         // holding `object`, take the gripper farther than `distance` from `target`
   kHome,          // return to the start pose, gripper open, and stay still
   kCoCarry,       // hold `object` together with the human and follow the human's end until it
                   // rests on `target`, then release (one step per robot act on an object the

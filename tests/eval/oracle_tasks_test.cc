@@ -75,6 +75,7 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/X3_someone_else_places.yaml", 0},
                                            TaskCase{"tasks/X4_blocked_target.yaml", 0},
                                            TaskCase{"tasks/C2_handover_r2h.yaml", 1},
+                                           TaskCase{"tasks/C3_box_retrieval.yaml", 0},
                                            TaskCase{"tasks/C4_co_lift.yaml", 0}));
 
 // The baselines fail the Intruder tasks for the reason their missing competence predicts:
@@ -121,6 +122,16 @@ TEST(OracleBaselines, BlindLiftsThePlankBeforeThePersonsCue) {
   const Outcome blind = run_task("tasks/C4_co_lift.yaml", 0, "blind");
   EXPECT_FALSE(blind.metrics.success);
   EXPECT_EQ(blind.metrics.primary_label, FailureLabel::kPremature) << describe(blind);
+}
+
+// C3: reactive waits for the lid like the oracle; blind reaches for the cup at once, into the
+// closed box (the reach starts before lid.hold).
+TEST(OracleBaselines, BoxRetrievalIsDoneByReactiveAndBrokenByBlind) {
+  const Outcome reactive = run_task("tasks/C3_box_retrieval.yaml", 0, "reactive");
+  EXPECT_TRUE(reactive.metrics.success) << describe(reactive);
+  const Outcome blind = run_task("tasks/C3_box_retrieval.yaml", 0, "blind");
+  EXPECT_FALSE(blind.metrics.success);
+  EXPECT_TRUE(has_label(blind.metrics, FailureLabel::kPremature)) << describe(blind);
 }
 
 // A trace for debugging one episode: HRIB_TASK=tasks/X.yaml HRIB_SEED=3 HRIB_POLICY=oracle
