@@ -72,6 +72,7 @@ void ExpertPolicy::reset(const EpisodeInfo& info) {
   gripper_ = 1.0;
   velocity_ = Vec3::Zero();
   retries_ = 0;
+  palms_time_ = -1;
 }
 
 const ExpertPolicy::ObjectGeometry* ExpertPolicy::geometry(const std::string& name) const {

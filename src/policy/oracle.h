@@ -167,6 +167,10 @@ class ExpertPolicy : public Policy {
   core::Vec3 reference_ = core::Vec3::Zero();  // the commanded TCP position of the profile
   core::Vec3 velocity_ = core::Vec3::Zero();
   int retries_ = 0;
+  // Co-carry: the person's palms (left, right) at the last control step (the velocity of those
+  // holding the object leads the robot's end), and that step's time (< 0: none).
+  std::array<core::Vec3, 2> palms_last_ = {core::Vec3::Zero(), core::Vec3::Zero()};
+  double palms_time_ = -1;
 };
 
 // "oracle" | "reactive" | "blind".

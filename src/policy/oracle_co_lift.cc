@@ -37,6 +37,10 @@ constexpr double kPartnerInset = 0.03;   // m: the person's grip point in from t
 constexpr double kTransitSpeed = 0.5;    // m/s
 constexpr double kEndApproach = 0.05;    // m above the grip
 constexpr double kPreshapeFrom = 0.015;  // m above the grip
+constexpr double kPartnerLead = 0.10;    // s: how far ahead of the person's end the robot's aims
+constexpr double kMaxLead = 0.04;        // m
+constexpr double kTremorSpeed = 0.12;    // m/s: palm speeds up to this lead nothing
+constexpr double kHoldingPalm = 0.15;    // m: a palm this close to the person's grip point holds it
 constexpr int kApproach = 40, kDescend = 41, kClose = 42, kHold = 43, kOpen = 44, kWithdraw = 45;
 
 // What a co-carry act's goal asks of the robot's end (nominal path of the baselines).
@@ -118,22 +122,12 @@ void ExpertPolicy::run_co_carry(const World& world, const PlanStep& step) {
       target_.translation = grip;
       if ((tcp - grip).norm() < kPreshapeFrom) set_phase(kClose, world.time);
       return;
-    case kClose: {  // pre-shape just wider than the width, squeeze slowly, check the grip
-      const double w = 2 * half.y();
-      const double command = w + kPreshapeGap - kSqueezeRate * std::max(0.0, elapsed - kPreshapeTime);
-      gripper_ = command > w - kSqueezeDepth ? std::min(1.0, command / kMaxGripperWidth) : 0.0;
+    case kClose:  // pre-shape just wider than the width, squeeze slowly, check the grip
+      squeeze(world, 2 * half.y(), grip, kPreshapeTime, kSqueezeRate, kCloseTime);
       speed_ = kFineSpeed * 1.5;  // the rest of the descent
-      target_.translation = grip;
-      if (elapsed > kPreshapeTime + (kPreshapeGap + kSqueezeDepth) / kSqueezeRate + kCloseTime) {
-        if (world.width > kHoldingWidth) {
-          set_phase(kHold, world.time);
-        } else {
-          ++retries_;
-          set_phase(kApproach, world.time);
-        }
-      }
+      if (phase_ == 3) set_phase(kHold, world.time);      // holding
+      if (phase_ == 0) set_phase(kApproach, world.time);  // missed: again from above
       return;
-    }
     case kOpen:
       gripper_ = 1.0;
       speed_ = 0;
@@ -142,10 +136,12 @@ void ExpertPolicy::run_co_carry(const World& world, const PlanStep& step) {
         target_.translation = tcp + Vec3(0, 0, 0.12) - 0.08 * axis;  // up and back, off the object
       }
       return;
-    case kWithdraw:
+    case kWithdraw:  // then done with the object: the rest of its co-carry steps too
       gripper_ = 1.0;
       speed_ = kFineSpeed * 2;
-      if (elapsed > 1.0) internal_done_[current_] = 1;
+      for (size_t i = current_; i < plan_.size() && elapsed > 1.0; ++i) {
+        if (plan_[i].kind == StepKind::kCoCarry && plan_[i].object == step.object) internal_done_[i] = 1;
+      }
       return;
     default:
       break;
@@ -166,16 +162,16 @@ void ExpertPolicy::run_co_carry(const World& world, const PlanStep& step) {
       next_after = plan_[i].after;
     }
   }
-  // The lowering act of the person on this object: it lets go in its release phase (the object
-  // rests on the target then), and so does the robot.
-  std::string let_go;
+  // The lowering act of the person on this object ("" none): it lets go in its release phase
+  // (the object rests on the target then), and so does the robot.
+  std::string lowering;
   for (const auto& entry : episode_->acts) {
     const script::Act& act = entry.value;
     if (act.actor != "human" || !act.motion || !act.motion->primitive || act.motion->primitive->value() != "lower") continue;
     for (const auto& param : act.motion->params) {
       const script::Expr& e = param.value.scalar.expr;
       if (param.name == "object" && e.kind == script::Expr::Kind::kString && e.text == step.object) {
-        let_go = entry.name + ".release";
+        lowering = entry.name;
       }
     }
   }
@@ -190,18 +186,37 @@ void ExpertPolicy::run_co_carry(const World& world, const PlanStep& step) {
       // person's end is the profile: the reference point follows it every control step.
       const double partner_x = -side * (half.x() - kPartnerInset);
       const Vec3 partner = X_WO * Vec3(partner_x, tcp_O.y(), tcp_O.z());
-      Vec3 goal = partner - std::abs(partner_x - tcp_O.x()) * axis;
-      // Not below the start height before the last act (the object lies on its support then).
+      // Led by the velocity of the palms holding it over the last control step (the arm's lag;
+      // the palms, unlike the object, do not move with the robot's own end), beyond the speed
+      // of a hand's tremor (8-12 Hz, a few mm: not followed ahead).
+      const double dt = world.time - palms_time_;
+      Vec3 velocity = Vec3::Zero();
+      int holding_palms = 0;
+      for (int s = 0; s < 2; ++s) {
+        const Vec3 palm = world.palm(s);
+        if (palms_time_ >= 0 && dt > 0 && dt < 2.5 * world.dt && (palm - partner).norm() < kHoldingPalm) {
+          velocity += (palm - palms_last_[static_cast<size_t>(s)]) / dt;
+          ++holding_palms;
+        }
+        palms_last_[static_cast<size_t>(s)] = palm;
+      }
+      palms_time_ = world.time;
+      if (holding_palms > 0) velocity /= holding_palms;
+      const double speed = velocity.norm();
+      const Vec3 lead = speed > kTremorSpeed ? Vec3(velocity * ((1 - kTremorSpeed / speed) * kPartnerLead)) : Vec3::Zero();
+      Vec3 goal = partner + clamp_norm(lead, kMaxLead) - std::abs(partner_x - tcp_O.x()) * axis;
+      // Not below the start height before the person lowers it (it lies on its support then).
       const double rest_z = start_positions_[k].z() + tcp_O.z();
-      if (!last) goal.z() = std::max(goal.z(), rest_z);
+      if (lowering.empty() || !seen(lowering + ".start")) goal.z() = std::max(goal.z(), rest_z);
       target_.translation = goal;
       reference_ = goal;
       speed_ = 0;
     }
     const bool ended = step.act.empty() || seen(step.act + ".end");
     if (!last && ended && (next_after.empty() || seen(next_after))) internal_done_[current_] = 1;
-    // The last act's goal (the object resting, let go) needs the release.
-    if (last && (let_go.empty() || seen(let_go))) {
+    // The person lets go (or, without a lowering act, the last act begins): so does the robot;
+    // the last act's goal (the object resting, nobody holding it) needs that.
+    if (lowering.empty() ? last : seen(lowering + ".release")) {
       set_phase(kOpen, world.time);
       gripper_ = 1.0;
     }
