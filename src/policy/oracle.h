@@ -119,6 +119,8 @@ class ExpertPolicy : public Policy {
   // Hand `side` (0 left, 1 right) is held out to ask for or receive an object (a give_me or
   // receive act with that hand is running): the handover's goal, not an intrusion.
   bool receiving_hand(int side) const;
+  // Hand `side` has shown where it wants an object (the gesture phase of a give_me act began).
+  bool palm_shown(int side) const;
   // The logged predicate `name` is true now (false when not logged).
   bool predicate_true(const std::string& name) const;
   // `object` starts in a human hand (the scene's held_by).

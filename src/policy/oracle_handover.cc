@@ -19,8 +19,11 @@ constexpr double kOfferStandoff = 0.12;
 // Taking from a hand: the gripper waits this far short of the object (horizontally, toward the
 // robot) and this high above its grasp point while the person reaches, then comes in over the
 // grasp point from kTakeAbove.
-constexpr double kTakeStandoff = 0.14;
+constexpr double kTakeStandoff = 0.22;
 constexpr double kTakeAbove = 0.07;
+// ... and keeps its hand housing and wrist this far from the head of a person leaning in (m,
+// to the head joint), backing off toward its base when closer.
+constexpr double kTakeHeadClearance = 0.21;
 }  // namespace
 
 bool ExpertPolicy::starts_in_hand(const std::string& object) const {
@@ -82,6 +85,18 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
   const double elapsed = world.time - phase_start_;
   // Both fingers on it: the person may let go any moment (after 0.2 s), so close now.
   const bool touching = predicate_true("grasped(robot, " + step.object + ")");
+  // A head leaning in over the object: back off toward the base (not with the object between
+  // the fingers: the grip is finished first).
+  const Vec3 head = world.joints[static_cast<size_t>(human::index(human::Joint::kHead))];
+  double head_distance = 1e9;
+  for (const double up : {0.06, 0.16, 0.26}) head_distance = std::min(head_distance, (tcp + Vec3(0, 0, up) - head).norm());
+  if (head_distance < kTakeHeadClearance && phase_ < 42) {
+    if (phase_ == 41) set_phase(40, world.time);
+    gripper_ = 1.0;
+    speed_ = kMaxSpeed;
+    target_.translation = tcp - 0.10 * toward;
+    return true;
+  }
   switch (phase_) {
     case 40:  // approach: short of the object while the person reaches; take: over the grasp point
       gripper_ = 1.0;
@@ -157,15 +172,16 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     }
     gripper_ = 0.0;
     const Vec3 into = palm + (tcp - centre) + Vec3(0, 0, 0.02);
-    // Until the receiving hand is open: toward the palm the person shows, stopping short of it
-    // on the robot's side; a hand that is not shown yet (hanging) is waited for in front of
-    // the robot. Then over the palm and down into it.
+    // Until the receiving hand is open: toward a palm the person shows with a gesture
+    // (give_me), stopping short of it on the robot's side; otherwise (a hand still reaching
+    // out, through where the robot would wait) in front of the robot. Then over the palm and
+    // down into it.
     const std::string receiver = receiving_act(step.object);
     if (!receiver.empty() && !seen(receiver + ".open") && competence_ != Competence::kBlind) {
       speed_ = kMaxSpeed;
       const Vec3 toward = Vec3(palm.x(), palm.y(), 0).normalized();
-      target_.translation = palm.z() > kTableZ + 0.12 ? Vec3(into + Vec3(0, 0, kOfferAbove) - kOfferStandoff * toward)
-                                                      : Vec3(0.40, std::clamp(tcp.y(), -0.2, 0.2), 1.0);
+      target_.translation = palm_shown(side) ? Vec3(into + Vec3(0, 0, kOfferAbove) - kOfferStandoff * toward)
+                                             : Vec3(0.40, std::clamp(tcp.y(), -0.2, 0.2), 1.0);
       return;
     }
     // Over the palm first, then down into it (the hand housing stays clear of the fingers).
@@ -222,20 +238,31 @@ bool ExpertPolicy::human_holds(const std::string& object) const {
   return false;
 }
 
+namespace {
+// The hand parameter of a human act with one of `primitives` ("" otherwise).
+std::string hand_of(const script::Act& act, std::initializer_list<const char*> primitives) {
+  if (act.actor != "human" || !act.motion || !act.motion->primitive) return "";
+  const std::string primitive = act.motion->primitive->value();
+  if (std::none_of(primitives.begin(), primitives.end(), [&](const char* p) { return primitive == p; })) return "";
+  for (const auto& param : act.motion->params) {
+    const script::Expr& e = param.value.scalar.expr;
+    if (param.name == "hand" && e.kind == script::Expr::Kind::kString) return e.text;
+  }
+  return "";
+}
+}  // namespace
+
+bool ExpertPolicy::palm_shown(int side) const {
+  for (const auto& entry : episode_->acts) {
+    if (hand_of(entry.value, {"give_me"}) == (side == 0 ? "left" : "right") && seen(entry.name + ".gesture")) return true;
+  }
+  return false;
+}
+
 bool ExpertPolicy::receiving_hand(int side) const {
   for (const auto& entry : episode_->acts) {
-    const script::Act& act = entry.value;
-    if (act.actor != "human" || !act.motion || !act.motion->primitive) continue;
-    const std::string primitive = act.motion->primitive->value();
-    if (primitive != "give_me" && primitive != "receive") continue;
-    if (!seen(entry.name + ".start") || seen(entry.name + ".end")) continue;
-    for (const auto& param : act.motion->params) {
-      const script::Expr& e = param.value.scalar.expr;
-      if (param.name == "hand" && e.kind == script::Expr::Kind::kString &&
-          e.text == (side == 0 ? "left" : "right")) {
-        return true;
-      }
-    }
+    if (hand_of(entry.value, {"give_me", "receive"}) != (side == 0 ? "left" : "right")) continue;
+    if (seen(entry.name + ".start") && !seen(entry.name + ".end")) return true;
   }
   return false;
 }
