@@ -458,7 +458,9 @@ TEST(TasksTest, IntruderTasksHaveADisruptionInEveryEpisode) {
         EXPECT_EQ(a.value.actor, "human") << name;
         ASSERT_TRUE(a.value.cue.has_value()) << name << " " << a.name;
       }
-      EXPECT_EQ(disruptions, 1) << name << " seed " << seed;
+      // One intrusion; X4's object variant also marks the clearing of the plate.
+      EXPECT_GE(disruptions, 1) << name << " seed " << seed;
+      EXPECT_LE(disruptions, 2) << name << " seed " << seed;
     }
   }
 }
