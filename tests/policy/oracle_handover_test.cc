@@ -1,0 +1,126 @@
+// The expert's handover skills without physics (oracle_handover.cc): taking an object a person
+// holds out (C1), on hand-built observations whose TCP follows the commanded deltas exactly.
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "human/skeleton.h"
+#include "policy/oracle.h"
+#include "script/check.h"
+#include "script/sample.h"
+
+namespace hribench::policy {
+namespace {
+
+using core::Vec3;
+
+// C1 seed 0, the offered object held still at `object` (its body frame: bottom centre), the
+// person's joints at the far edge, the offering wrist beside the object, the head at `head`.
+struct TakeScene {
+  std::shared_ptr<script::EpisodeSpec> spec;
+  Vec3 object = Vec3(0.62, -0.05, 1.00);
+  Vec3 head = Vec3(1.25, 0, 1.65);
+  Vec3 tcp = Vec3(0.55, 0, 1.27);
+  std::vector<ScriptEvent> events;
+
+  TakeScene() {
+    spec = std::make_shared<script::EpisodeSpec>(
+        script::sample(script::load_scenario("tasks/C1_handover_h2r.yaml"), 0));
+  }
+  EpisodeInfo info() const {
+    EpisodeInfo i;
+    i.task = spec->task;
+    i.episode = spec;
+    i.horizon = spec->horizon;
+    return i;
+  }
+  Observation observation(double time) const {
+    Observation obs;
+    obs.time = time;
+    obs.proprio.gripper_width = 0.08;
+    obs.proprio.X_WT.translation = tcp;
+    obs.proprio.X_WT.rotation = core::axis_angle(Vec3::UnitX(), core::kPi);
+    StateObservation state;
+    for (const auto& entry : spec->scene.objects) {
+      ObjectPose pose{entry.name, core::Pose::Identity()};
+      pose.X_WO.translation = entry.name == "item" ? object : Vec3(0.35, 0.30, 0.75);
+      state.objects.push_back(pose);
+    }
+    for (size_t j = 0; j < state.human_joints_W.size(); ++j) state.human_joints_W[j] = Vec3(1.3, 0, 1.0);
+    // The offering forearm reaches toward the object from the person's side.
+    for (const human::Joint wrist : {human::Joint::kLeftWrist, human::Joint::kRightWrist}) {
+      state.human_joints_W[static_cast<size_t>(human::index(wrist))] = object + Vec3(0.05, 0.07, 0.05);
+    }
+    state.human_joints_W[static_cast<size_t>(human::index(human::Joint::kHead))] = head;
+    obs.state = state;
+    obs.events = events;
+    return obs;
+  }
+  // Runs `steps` control steps from `time`, moving the TCP by each commanded delta; returns the
+  // last action.
+  Action run(ExpertPolicy& policy, double& time, int steps) {
+    Action last;
+    for (int k = 0; k < steps; ++k) {
+      time += 0.05;
+      const ActionChunk chunk = policy.act(observation(time));
+      validate_chunk(chunk, ActionSpace::kEeDelta, ActionLimits{});
+      last = chunk.actions[0];
+      tcp += Vec3(last[0], last[1], last[2]);
+    }
+    return last;
+  }
+};
+
+double horizontal(const Vec3& v) { return v.head<2>().norm(); }
+
+TEST(HandoverTake, WaitsShortOfTheObjectWhileThePersonReachesThenComesInAndCloses) {
+  TakeScene scene;
+  ExpertPolicy oracle(Competence::kOracle);
+  oracle.reset(scene.info());
+  double time = 0;
+  scene.events.push_back({0.5, "act_start", "offer.start", ""});
+  Action last = scene.run(oracle, time, 80);
+  // Short of the object on the robot's side, open, not moving any more.
+  EXPECT_NEAR(horizontal(scene.object - scene.tcp), 0.22, 0.03);
+  EXPECT_LT(scene.tcp.x(), scene.object.x());
+  EXPECT_DOUBLE_EQ(last[6], 1.0);
+  EXPECT_LT(Vec3(last[0], last[1], last[2]).norm(), 1e-3);
+
+  // Held still: over the grasp point, down to it, then the fingers close.
+  scene.events.push_back({time, "phase", "offer.hold", ""});
+  last = scene.run(oracle, time, 120);
+  EXPECT_LT(horizontal(scene.object - scene.tcp), 0.01);
+  EXPECT_GT(scene.tcp.z(), scene.object.z());
+  EXPECT_LT(scene.tcp.z(), scene.object.z() + 0.20);
+  EXPECT_LT(last[6], 0.95);
+}
+
+TEST(HandoverTake, BacksOffFromAHeadLeaningInOverTheObject) {
+  TakeScene scene;
+  ExpertPolicy oracle(Competence::kOracle);
+  oracle.reset(scene.info());
+  double time = 0;
+  scene.events.push_back({0.5, "act_start", "offer.start", ""});
+  scene.events.push_back({0.6, "phase", "offer.hold", ""});
+  scene.run(oracle, time, 15);
+  // The head comes down right in front of the hand.
+  scene.head = scene.tcp + Vec3(0.12, 0, 0.10);
+  const double before = (scene.tcp - scene.head).norm();
+  scene.run(oracle, time, 10);
+  EXPECT_GT((scene.tcp - scene.head).norm(), before + 0.03);
+}
+
+TEST(HandoverTake, BlindComesStraightInWithoutWaitingForTheHold) {
+  TakeScene scene;
+  ExpertPolicy blind(Competence::kBlind);
+  blind.reset(scene.info());
+  double time = 0;
+  scene.run(blind, time, 120);  // no events at all
+  EXPECT_LT(horizontal(scene.object - scene.tcp), 0.01);
+}
+
+}  // namespace
+}  // namespace hribench::policy
