@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "human/skeleton.h"
 #include "policy/registry.h"
 #include "script/check.h"
 #include "script/sample.h"
@@ -96,6 +97,35 @@ TEST(ExpertPolicy, WaitsForTheCueUnlessBlindAndIsDeterministic) {
   ActionChunk repeat;
   for (int k = 1; k <= 5; ++k) repeat = again.act(observation_for(*info.episode, 0.05 * k));
   EXPECT_EQ(repeat.actions, moving.actions);
+}
+
+// X1 while the intrusion runs: the oracle waits beside the intruding hand, moving sideways away
+// from its palm (here toward +y, away from the cube it was sent for at y < -0.2); the palm on the
+// other side sends it the other way.
+TEST(ExpertPolicy, YieldsSidewaysAwayFromTheIntrudingPalm) {
+  const EpisodeInfo info = info_for("tasks/X1_intrusion_yield.yaml", 0);
+  const auto sideways = [&](double palm_y) {
+    ExpertPolicy oracle(Competence::kOracle);
+    oracle.reset(info);
+    Observation obs = observation_for(*info.episode, 0.05);
+    obs.proprio.X_WT.translation = core::Vec3(0.30, -0.05, 1.05);
+    // The right forearm reaching in: palm 8 cm beyond the wrist, at (0.62, palm_y, 0.95).
+    obs.state->human_joints_W[static_cast<size_t>(human::index(human::Joint::kRightElbow))] =
+        core::Vec3(0.90, palm_y, 0.95);
+    obs.state->human_joints_W[static_cast<size_t>(human::index(human::Joint::kRightWrist))] =
+        core::Vec3(0.70, palm_y, 0.95);
+    obs.events.push_back(ScriptEvent{0.0, "act_start", "intrude.start", ""});
+    double dy = 0;
+    for (int k = 1; k <= 8; ++k) {
+      obs.time = 0.05 * k;
+      const ActionChunk chunk = oracle.act(obs);
+      validate_chunk(chunk, ActionSpace::kEeDelta, ActionLimits{});
+      dy += chunk.actions[0][1];
+    }
+    return dy;
+  };
+  EXPECT_GT(sideways(-0.10), 1e-3);
+  EXPECT_LT(sideways(0.10), -1e-3);
 }
 
 }  // namespace
