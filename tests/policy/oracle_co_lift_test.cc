@@ -117,13 +117,22 @@ double grasp_end(ExpertPolicy& policy, Scene& scene) {
   return t;
 }
 
+// The expert of a competence, reset on the C4 episode of seed 0, and its hand-built scene.
+struct CoLift {
+  explicit CoLift(Competence competence) : spec(c4_episode()), policy(competence), scene{*spec, {}} {
+    EpisodeInfo info;
+    info.episode = spec;
+    policy.reset(info);
+  }
+  std::shared_ptr<script::EpisodeSpec> spec;
+  ExpertPolicy policy;
+  Scene scene;
+};
+
 TEST(CoCarrySkill, GripsTheRobotsEndAndWaitsStillForTheLiftCue) {
-  const auto spec = c4_episode();
-  EpisodeInfo info;
-  info.episode = spec;
-  ExpertPolicy oracle(Competence::kOracle);
-  oracle.reset(info);
-  Scene scene{*spec, {}};
+  CoLift c4(Competence::kOracle);
+  ExpertPolicy& oracle = c4.policy;
+  Scene& scene = c4.scene;
   // From home: toward the point above the robot's end (x 0.345), not the plank's centre.
   const ActionChunk first = oracle.act(scene.observe(0.0, Vec3(0.55, 0, 1.27), 0.08, 0));
   EXPECT_LT(translation(first).x(), -1e-3);
@@ -136,12 +145,9 @@ TEST(CoCarrySkill, GripsTheRobotsEndAndWaitsStillForTheLiftCue) {
 }
 
 TEST(CoCarrySkill, AfterTheCueKeepsItsEndLevelWithThePersonsAndLetsGoWithThem) {
-  const auto spec = c4_episode();
-  EpisodeInfo info;
-  info.episode = spec;
-  ExpertPolicy oracle(Competence::kOracle);
-  oracle.reset(info);
-  Scene scene{*spec, {}};
+  CoLift c4(Competence::kOracle);
+  ExpertPolicy& oracle = c4.policy;
+  Scene& scene = c4.scene;
   double t = grasp_end(oracle, scene);
   scene.add("cue", "hlift.prep", t);
   scene.add("phase", "hlift.prep", t);
@@ -167,12 +173,9 @@ TEST(CoCarrySkill, AfterTheCueKeepsItsEndLevelWithThePersonsAndLetsGoWithThem) {
 }
 
 TEST(CoCarrySkill, BlindLiftsRightAfterGrippingWhateverThePersonDoes) {
-  const auto spec = c4_episode();
-  EpisodeInfo info;
-  info.episode = spec;
-  ExpertPolicy blind(Competence::kBlind);
-  blind.reset(info);
-  Scene scene{*spec, {}};
+  CoLift c4(Competence::kBlind);
+  ExpertPolicy& blind = c4.policy;
+  Scene& scene = c4.scene;
   const double t = grasp_end(blind, scene);
   const Vec3 up = translation(blind.act(scene.observe(t + 0.05, scene.grip(), 0.058, 0)));
   EXPECT_GT(up.z(), 1e-3);
