@@ -19,7 +19,7 @@ constexpr double kOfferStandoff = 0.12;
 // Taking from a hand: the gripper waits this far short of the object (horizontally, toward the
 // robot) and this high above its grasp point while the person reaches, then comes in over the
 // grasp point from kTakeAbove.
-constexpr double kTakeStandoff = 0.22;
+constexpr double kTakeStandoff = 0.30;
 constexpr double kTakeAbove = 0.07;
 // ... and keeps its hand housing and wrist this far from the head of a person leaning in (m,
 // to the head joint), backing off toward its base when closer.
@@ -186,7 +186,12 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     }
     // Over the palm first, then down into it (the hand housing stays clear of the fingers).
     speed_ = kFineSpeed * 2;
-    target_.translation = (tcp - into).head<2>().norm() > 0.03 ? Vec3(into + Vec3(0, 0, kOfferAbove)) : into;
+    const Vec3 over = into + Vec3(0, 0, kOfferAbove);
+    target_.translation = (tcp - into).head<2>().norm() > 0.03 ? over : into;
+    // Low and far from the palm (just picked): up first, not through the reaching arm.
+    if (!palm_shown(side) && tcp.z() < into.z() && (tcp - into).head<2>().norm() > 0.10) {
+      target_.translation = Vec3(tcp.x(), tcp.y(), over.z());
+    }
     // Done once the object is in the palm (not when the act's looser goal distance first holds:
     // the person closes the hand only when the object is inside the palm region), or once the
     // hand closes on it.

@@ -84,7 +84,7 @@ TEST(HandoverTake, WaitsShortOfTheObjectWhileThePersonReachesThenComesInAndClose
   scene.events.push_back({0.5, "act_start", "offer.start", ""});
   Action last = scene.run(oracle, time, 80);
   // Short of the object on the robot's side, open, not moving any more.
-  EXPECT_NEAR(horizontal(scene.object - scene.tcp), 0.22, 0.03);
+  EXPECT_NEAR(horizontal(scene.object - scene.tcp), 0.30, 0.03);
   EXPECT_LT(scene.tcp.x(), scene.object.x());
   EXPECT_DOUBLE_EQ(last[6], 1.0);
   EXPECT_LT(Vec3(last[0], last[1], last[2]).norm(), 1e-3);
