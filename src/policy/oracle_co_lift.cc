@@ -37,6 +37,10 @@ constexpr double kPartnerInset = 0.03;   // m: the person's grip point in from t
 constexpr double kTransitSpeed = 0.5;    // m/s
 constexpr double kEndApproach = 0.05;    // m above the grip
 constexpr double kPreshapeFrom = 0.015;  // m above the grip
+// The grasp (both pads touching) ends the first act, and the lift act would start at the first
+// gripper motion after it: the pre-shaped fingers settle before the squeeze (catching up on
+// the pre-shape they closed faster than the squeeze rate across the touch in some episodes).
+constexpr double kEndSettle = 0.15;      // s
 constexpr double kPartnerLead = 0.10;    // s: how far ahead of the person's end the robot's aims
 constexpr double kMaxLead = 0.04;        // m
 constexpr double kTremorSpeed = 0.12;    // m/s: palm speeds up to this lead nothing
@@ -123,7 +127,7 @@ void ExpertPolicy::run_co_carry(const World& world, const PlanStep& step) {
       if ((tcp - grip).norm() < kPreshapeFrom) set_phase(kClose, world.time);
       return;
     case kClose:  // pre-shape just wider than the width, squeeze slowly, check the grip
-      squeeze(world, 2 * half.y(), grip, kPreshapeTime, kSqueezeRate, kCloseTime);
+      squeeze(world, 2 * half.y(), grip, kPreshapeTime + kEndSettle, kSqueezeRate, kCloseTime);
       speed_ = kFineSpeed * 1.5;  // the rest of the descent
       if (phase_ == 3) set_phase(kHold, world.time);      // holding
       if (phase_ == 0) set_phase(kApproach, world.time);  // missed: again from above
