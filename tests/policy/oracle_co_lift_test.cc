@@ -109,7 +109,7 @@ double grasp_end(ExpertPolicy& policy, Scene& scene) {
   t += 0.05;
   policy.act(scene.observe(t, scene.grip(), 0.08, 0));
   scene.add("act_end", "hold_end.end", t + 0.5);
-  for (int k = 0; k < 40; ++k) {
+  for (int k = 0; k < 70; ++k) {
     t += 0.05;
     const ActionChunk chunk = policy.act(scene.observe(t, scene.grip(), 0.058, 0));
     validate_chunk(chunk, ActionSpace::kEeDelta, ActionLimits{});
