@@ -355,18 +355,23 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
       Segment{joint(Joint::kSpine3), joint(Joint::kNeck), 0.08},
       Segment{joint(Joint::kSpine1), joint(Joint::kSpine3), 0.08},
       Segment{joint(Joint::kLeftShoulder), joint(Joint::kRightShoulder), 0.02}};
-  double best = 1e9;
-  Vec3 away = Vec3::Zero();
-  for (const Segment& segment : body) {
-    for (const Vec3& p : robot) {
-      Vec3 closest;
-      const double d = segment_distance(p, segment.a, segment.b, closest) - segment.extra;
-      if (d < best) {
-        best = d;
-        away = p - closest;
+  // The nearest robot point to the body (the robot shifted by `shift`), and the direction away.
+  const auto nearest = [&](const Vec3& shift, Vec3& away_dir) {
+    double nearest_d = 1e9;
+    for (const Segment& segment : body) {
+      for (const Vec3& p : robot) {
+        Vec3 closest;
+        const double d = segment_distance(p + shift, segment.a, segment.b, closest) - segment.extra;
+        if (d < nearest_d) {
+          nearest_d = d;
+          away_dir = p + shift - closest;
+        }
       }
     }
-  }
+    return nearest_d;
+  };
+  Vec3 away = Vec3::Zero();
+  const double best = nearest(Vec3::Zero(), away);
   if (best < kRetreatDistance) {
     Vec3 dir = away;
     dir.z() = std::max(dir.z(), 0.0);
@@ -376,7 +381,19 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
     if (holding_) retreat = Vec3::Zero();
     return 0;
   }
-  if (best < kStopDistance || (ssm_stopped_ && best < kResumeDistance)) return 0;
+  if (best < kStopDistance || (ssm_stopped_ && best < kResumeDistance)) {
+    // Motion away from the person back toward the robot's base is not stopped (ISO/TS 15066
+    // SSM stops approaching motion): slowly, when 2 cm along the commanded direction every
+    // robot point would be farther from the body.
+    const Vec3 to_go = target_.translation - tcp;
+    const bool homeward = target_.translation.head<2>().norm() < tcp.head<2>().norm() - 0.01;
+    Vec3 unused;
+    if (speed_ > 0 && homeward && to_go.norm() > 0.01 &&
+        nearest(0.02 * to_go.normalized(), unused) > best + 0.005) {
+      return kSeparatingScale;
+    }
+    return 0;
+  }
   if (lid >= 0 && lid_arm_distance(world, robot, lid) < kLidArmClearance) return 0;
   if (best < kSlowDistance) return 0.3 + 0.7 * (best - kStopDistance) / (kSlowDistance - kStopDistance);
   return 1.0;

@@ -46,6 +46,8 @@ inline constexpr double kSlowDistance = 0.60;
 inline constexpr double kStopDistance = 0.42;
 inline constexpr double kRetreatDistance = 0.34;
 inline constexpr double kResumeDistance = 0.48;
+// ... but motion that increases the separation goes on, at this fraction of the step's speed.
+inline constexpr double kSeparatingScale = 0.3;
 // The arm holding a box's lid open for the robot is expected near the box (the robot works
 // under it): instead of the distances above, the robot stops closer than this to it.
 inline constexpr double kLidArmClearance = 0.10;
@@ -126,8 +128,10 @@ class ExpertPolicy : public Policy {
   // `object` starts in a human hand (the scene's held_by).
   bool starts_in_hand(const std::string& object) const;
   // Taking an object a person holds out (oracle_handover.cc): the approach and grasp steps of
-  // an object that starts in a human hand; false when `step` is not such a step.
+  // an object that starts in a human hand, and its place step; false when `step` is neither.
   bool run_take(const World& world, const PlanStep& step);
+  // The place step after such a take: back away from the person first (true while doing so).
+  bool run_take_retreat(const World& world);
   // A logged predicate held(human.H, object) (alone, not within a conjunction) is true.
   bool human_holds(const std::string& object) const;
   void set_phase(int phase, double time);
@@ -173,6 +177,7 @@ class ExpertPolicy : public Policy {
   // holding the object leads the robot's end), and that step's time (< 0: none).
   std::array<core::Vec3, 2> palms_last_ = {core::Vec3::Zero(), core::Vec3::Zero()};
   double palms_time_ = -1;
+  core::Vec3 retreat_from_ = core::Vec3::Zero();  // the TCP where the place after a take began
 };
 
 // "oracle" | "reactive" | "blind".

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/errors.h"
 #include "policy/oracle_internal.h"
@@ -24,6 +25,8 @@ constexpr double kTakeAbove = 0.07;
 // ... and keeps its hand housing and wrist this far from the head of a person leaning in (m,
 // to the head joint), backing off toward its base when closer.
 constexpr double kTakeHeadClearance = 0.21;
+// Once it holds the object the person let go of: back this far toward the base before placing.
+constexpr double kTakeRetreat = 0.15;
 }  // namespace
 
 bool ExpertPolicy::starts_in_hand(const std::string& object) const {
@@ -35,7 +38,27 @@ bool ExpertPolicy::starts_in_hand(const std::string& object) const {
 
 // Phases 40..44: wait short of the offered object (approach), come over its grasp point, down
 // to it, squeeze, grip, then hold it until the person lets go (the next step).
+namespace {
+// The palm centre of a hand held out to receive (0 left, 1 right): level with the wrist (the
+// hand is held level, palm up or turned in, however steeply the forearm comes down to it),
+// kReceivingPalmReach beyond it along the forearm's horizontal direction turned halfway toward
+// the robot's base (the fingers point from the shoulder to the receiving spot, further toward
+// the robot than the bent forearm). The forearm's own line (World::palm) puts the palm of a
+// forearm coming down at 35 degrees 6 cm low and short.
+constexpr double kReceivingPalmReach = 0.09;
+// (Wrist and elbow in world; nullopt when degenerate.)
+std::optional<Vec3> receiving_palm(const Vec3& wrist, const Vec3& elbow) {
+  const Vec3 forearm(wrist.x() - elbow.x(), wrist.y() - elbow.y(), 0);
+  const Vec3 to_base(-wrist.x(), -wrist.y(), 0);
+  if (forearm.norm() < 1e-3 || to_base.norm() < 1e-3) return std::nullopt;
+  const Vec3 fingers = forearm.normalized() + 0.5 * to_base.normalized();
+  if (fingers.norm() < 1e-3) return std::nullopt;
+  return Vec3(wrist + kReceivingPalmReach * fingers.normalized());
+}
+}  // namespace
+
 bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
+  if (step.kind == StepKind::kPlace && starts_in_hand(step.object)) return run_take_retreat(world);
   if ((step.kind != StepKind::kApproach && step.kind != StepKind::kPick) || !starts_in_hand(step.object)) {
     return false;
   }
@@ -88,9 +111,15 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
   // A head leaning in over the object: back off toward the base (not with the object between
   // the fingers: the grip is finished first).
   const Vec3 head = world.joints[static_cast<size_t>(human::index(human::Joint::kHead))];
-  double head_distance = 1e9;
-  for (const double up : {0.06, 0.16, 0.26}) head_distance = std::min(head_distance, (tcp + Vec3(0, 0, up) - head).norm());
-  if (head_distance < kTakeHeadClearance && phase_ < 42) {
+  const auto head_distance = [&](const Vec3& at) {
+    double d = 1e9;
+    for (const double up : {0.06, 0.16, 0.26}) d = std::min(d, (at + Vec3(0, 0, up) - head).norm());
+    return d;
+  };
+  // (Not while the grasp point is farther from the head: coming down to an object held low
+  // under a head leaning in moves the housing away from it.)
+  const Vec3 next = step.kind == StepKind::kApproach ? Vec3(above - kTakeStandoff * toward) : grasp;
+  if (head_distance(tcp) < kTakeHeadClearance && head_distance(next) < head_distance(tcp) + 0.03 && phase_ < 42) {
     if (phase_ == 41) set_phase(40, world.time);
     gripper_ = 1.0;
     speed_ = kMaxSpeed;
@@ -150,6 +179,28 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
   return true;
 }
 
+// Phase 45: the object just taken from the hand, the person still close: first back toward
+// the robot's base (and a little lower), away from the person, then the place (phase 10).
+bool ExpertPolicy::run_take_retreat(const World& world) {
+  const Vec3 tcp = world.X_WT.translation;
+  // (Only when the step begins holding it: a place step that must pick it first picks.)
+  if (phase_ == 0 && gripper_ < 0.5 && world.width > kHoldingWidth) {
+    set_phase(45, world.time);
+    retreat_from_ = tcp;
+  }
+  if (phase_ != 45) return false;
+  const Vec3 toward = Vec3(retreat_from_.x(), retreat_from_.y(), 0).normalized();
+  const Vec3 back = retreat_from_ - kTakeRetreat * toward - Vec3(0, 0, 0.03);
+  gripper_ = 0.0;
+  speed_ = kFineSpeed * 2;
+  target_.translation = back;
+  if ((tcp - back).norm() < 2 * kReachedDistance || world.time - phase_start_ > 3.0) {
+    set_phase(10, world.time);
+    return false;
+  }
+  return true;
+}
+
 void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
   const size_t k = index_of(objects_, step.object);
   HRIB_CHECK(k < objects_.size()) << step.object;
@@ -157,7 +208,14 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
   const Vec3 tcp = world.X_WT.translation;
   const Vec3 centre = world.centre(k, g.half_extents);
   const int side = step.target == "human.left" ? 0 : 1;
-  const Vec3 palm = world.palm(side);
+  const auto joint = [&](human::Joint j) { return world.joints[static_cast<size_t>(human::index(j))]; };
+  // A palm shown with a gesture first (I2) is aimed at along the forearm's line: the object
+  // comes down deeper into it, so the hand closes on it at once (release before the pull).
+  const Vec3 palm = palm_shown(side)
+                        ? world.palm(side)
+                        : receiving_palm(joint(side == 0 ? human::Joint::kLeftWrist : human::Joint::kRightWrist),
+                                         joint(side == 0 ? human::Joint::kLeftElbow : human::Joint::kRightElbow))
+                              .value_or(world.palm(side));
   if (step.kind == StepKind::kOffer) {
     const bool holding = gripper_ < 0.5 && world.width > kHoldingWidth &&
                          (centre - tcp).norm() < 0.06 + g.half_extents.z();
@@ -184,10 +242,15 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
                                              : Vec3(0.40, std::clamp(tcp.y(), -0.2, 0.2), 1.0);
       return;
     }
-    // Over the palm first, then down into it (the hand housing stays clear of the fingers).
+    // Over the palm first, then down into it (the hand housing stays clear of the fingers); a
+    // hand held out without a gesture: within a cone over it (twice as high as it is off to the
+    // side), so a palm at the edge of the robot's reach is still come down to (a tall object
+    // held at its neck over a high palm).
     speed_ = kFineSpeed * 2;
     const Vec3 over = into + Vec3(0, 0, kOfferAbove);
-    target_.translation = (tcp - into).head<2>().norm() > 0.03 ? over : into;
+    const double off = (tcp - into).head<2>().norm();
+    target_.translation = palm_shown(side) ? (off > 0.03 ? over : into)
+                                           : Vec3(into + Vec3(0, 0, std::min(kOfferAbove, 2 * off)));
     // Low and far from the palm (just picked): up first, not through the reaching arm.
     if (!palm_shown(side) && tcp.z() < into.z() && (tcp - into).head<2>().norm() > 0.10) {
       target_.translation = Vec3(tcp.x(), tcp.y(), over.z());

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,8 @@ struct TakeScene {
   Vec3 object = Vec3(0.62, -0.05, 1.00);
   Vec3 head = Vec3(1.25, 0, 1.65);
   Vec3 tcp = Vec3(0.55, 0, 1.27);
+  // Both wrists here (elbows 0.2 m further from the robot) instead of beside the object.
+  std::optional<Vec3> wrists;
   std::vector<ScriptEvent> events;
 
   TakeScene() {
@@ -53,6 +56,12 @@ struct TakeScene {
     // The offering forearm reaches toward the object from the person's side.
     for (const human::Joint wrist : {human::Joint::kLeftWrist, human::Joint::kRightWrist}) {
       state.human_joints_W[static_cast<size_t>(human::index(wrist))] = object + Vec3(0.05, 0.07, 0.05);
+    }
+    if (wrists) {
+      for (const human::Side side : {human::Side::kLeft, human::Side::kRight}) {
+        state.human_joints_W[static_cast<size_t>(human::index(human::wrist(side)))] = *wrists;
+        state.human_joints_W[static_cast<size_t>(human::index(human::elbow(side)))] = *wrists + Vec3(0.2, 0, 0);
+      }
     }
     state.human_joints_W[static_cast<size_t>(human::index(human::Joint::kHead))] = head;
     obs.state = state;
@@ -111,6 +120,26 @@ TEST(HandoverTake, BacksOffFromAHeadLeaningInOverTheObject) {
   const double before = (scene.tcp - scene.head).norm();
   scene.run(oracle, time, 10);
   EXPECT_GT((scene.tcp - scene.head).norm(), before + 0.03);
+}
+
+TEST(HandoverTake, OnceThePersonLetsGoBacksTowardItsBaseBeforePlacingThoughThePersonStaysClose) {
+  TakeScene scene;
+  ExpertPolicy oracle(Competence::kOracle);
+  oracle.reset(scene.info());
+  double time = 0;
+  scene.events.push_back({0.5, "act_start", "offer.start", ""});
+  scene.events.push_back({0.6, "phase", "offer.hold", ""});
+  scene.run(oracle, time, 200);  // taken: closed on it
+  ASSERT_LT(horizontal(scene.object - scene.tcp), 0.01);
+  // The person lets go and keeps the hand 0.38 m in front of the TCP (inside the
+  // speed-and-separation stop band, outside its back-off distance).
+  scene.wrists = scene.tcp + Vec3(0.46, 0, 0);
+  scene.events.push_back({time, "phase", "offer.release", ""});
+  const Vec3 before = scene.tcp;
+  const Action last = scene.run(oracle, time, 30);
+  EXPECT_LT(horizontal(scene.tcp), horizontal(before) - 0.05);  // back toward the base
+  EXPECT_LT(scene.tcp.z(), before.z());                          // and a little lower
+  EXPECT_LT(last[6], 0.5);                                      // still gripping
 }
 
 TEST(HandoverTake, BlindComesStraightInWithoutWaitingForTheHold) {
