@@ -76,7 +76,9 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/X4_blocked_target.yaml", 0},
                                            TaskCase{"tasks/I2_gesture_delivery.yaml", 0},
                                            TaskCase{"tasks/C1_handover_h2r.yaml", 0},
+                                           TaskCase{"tasks/C1_handover_h2r.yaml", 12},
                                            TaskCase{"tasks/C2_handover_r2h.yaml", 1},
+                                           TaskCase{"tasks/C2_handover_r2h.yaml", 11},
                                            TaskCase{"tasks/C3_box_retrieval.yaml", 0},
                                            TaskCase{"tasks/C4_co_lift.yaml", 0}));
 
