@@ -60,6 +60,7 @@ void ExpertPolicy::reset(const EpisodeInfo& info) {
   events_read_ = 0;
   stopped_ = false;
   holding_ = false;
+  waiting_ = false;
   ssm_stopped_ = false;
   started_ = false;
   start_positions_.clear();
@@ -229,9 +230,11 @@ ActionChunk ExpertPolicy::act(const Observation& observation) {
   if (next != current_) begin_step(next, world);
 
   bool hold = stopped_;
+  waiting_ = false;
   if (current_ < plan_.size()) {
     const PlanStep& step = plan_[current_];
-    if (!step.after.empty() && !seen(step.after)) hold = true;
+    waiting_ = !stopped_ && !step.after.empty() && !seen(step.after);
+    if (waiting_) hold = true;
     if (!step.pause_on.empty() && seen(step.pause_on)) hold = true;
   }
   // A grasp being closed is finished first (lifting a half-closed grasp drops the object).
@@ -313,6 +316,31 @@ void ExpertPolicy::run_step(const World& world) {
   }
 }
 
+Vec3 ExpertPolicy::without_approach(const World& world, const Vec3& direction) const {
+  if (current_ >= plan_.size()) return Vec3::Zero();
+  const PlanStep& step = plan_[current_];
+  // The metrics read any motion as the start of an act whose goal has no position (a put-back
+  // on the table, going home, staying still).
+  if (step.kind == StepKind::kPutBack || step.kind == StepKind::kHome || step.kind == StepKind::kStill) {
+    return Vec3::Zero();
+  }
+  const Vec3 tcp = world.X_WT.translation;
+  Vec3 d = direction;
+  bool goal = false;
+  for (const std::string& name : {step.object, step.target}) {
+    const size_t k = index_of(objects_, name);
+    if (k >= objects_.size()) continue;
+    goal = true;
+    const Vec3 to_goal = world.centre(k, objects_[k].half_extents) - tcp;
+    if (to_goal.norm() < 1e-6) return Vec3::Zero();
+    // At least a fifth of the motion away from the goal.
+    const Vec3 g = to_goal.normalized();
+    const double toward = d.dot(g);
+    if (toward > -0.2) d -= (toward + 0.2) * g;
+  }
+  return goal && d.norm() > 0.2 ? Vec3(d.normalized()) : Vec3::Zero();
+}
+
 double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
   retreat = Vec3::Zero();
   if (competence_ != Competence::kOracle) return 1.0;
@@ -372,13 +400,18 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
   };
   Vec3 away = Vec3::Zero();
   const double best = nearest(Vec3::Zero(), away);
-  if (best < kRetreatDistance) {
+  // Waiting for the event a step must start after, the robot has nothing to do: it backs off
+  // from a person coming closer than kSlowDistance, faster (kWaitingRetreatFactor), and only by
+  // motion that does not approach the step's object or target (that would be the step's
+  // response onset, METRICS.md): back and up from a demonstrator leaning in (I3). Held by a
+  // stop cue or paused by a contradiction it does not move at all (any motion would count as
+  // the start of an act whose goal has no position, such as I5's put-back).
+  const bool waiting = holding_ && waiting_;
+  if (best < kRetreatDistance || (waiting && best < kSlowDistance)) {
     Vec3 dir = away;
     dir.z() = std::max(dir.z(), 0.0);
     retreat = dir.norm() > 1e-6 ? Vec3(dir.normalized()) : Vec3(-1, 0, 0);
-    // Waiting for an event the step must start after: any motion would count as its start
-    // (I3 scores even a retreat straight up as premature), so the robot holds still.
-    if (holding_) retreat = Vec3::Zero();
+    if (holding_) retreat = waiting ? Vec3(kWaitingRetreatFactor * without_approach(world, retreat)) : Vec3::Zero();
     return 0;
   }
   if (best < kStopDistance || (ssm_stopped_ && best < kResumeDistance)) {
@@ -405,7 +438,7 @@ Action ExpertPolicy::motion_action(const World& world, double scale, const Vec3&
   ssm_stopped_ = scale == 0 && competence_ == Competence::kOracle && speed_ > 0;
   Vec3 desired = Vec3::Zero();
   if (retreat.norm() > 0) {
-    desired = retreat * 0.15;
+    desired = retreat * kRetreatSpeed;  // |retreat| > 1: faster (waiting)
   } else if (speed_ > 0 && scale > 0) {
     const Vec3 to_go = target_.translation - reference_;
     const double distance = to_go.norm();

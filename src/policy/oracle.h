@@ -46,6 +46,8 @@ inline constexpr double kSlowDistance = 0.60;
 inline constexpr double kStopDistance = 0.42;
 inline constexpr double kRetreatDistance = 0.34;
 inline constexpr double kResumeDistance = 0.48;
+inline constexpr double kRetreatSpeed = 0.15;         // m/s backing off below kRetreatDistance
+inline constexpr double kWaitingRetreatFactor = 2.5;  // times kRetreatSpeed while waiting for a cue
 // ... but motion that increases the separation goes on, at this fraction of the step's speed.
 inline constexpr double kSeparatingScale = 0.3;
 // The arm holding a box's lid open for the robot is expected near the box (the robot works
@@ -137,6 +139,10 @@ class ExpertPolicy : public Policy {
   void set_phase(int phase, double time);
   void restart_approach();  // after backing off: approach the grasp / target from above again
   double separation_scale(const World& world, core::Vec3& retreat) const;
+  // `direction` (unit) less its components toward the current step's object and target, so
+  // that the motion moves away from both; zero when little is left, when the step has neither,
+  // and for steps whose goal has no position (put back, home, still).
+  core::Vec3 without_approach(const World& world, const core::Vec3& direction) const;
   Action motion_action(const World& world, double scale, const core::Vec3& retreat);
 
   Competence competence_;
@@ -150,6 +156,7 @@ class ExpertPolicy : public Policy {
   bool stopped_ = false;                 // a stop cue holds the robot
   bool ssm_stopped_ = false;
   bool holding_ = false;                 // held (stop, waiting) at the last act()
+  bool waiting_ = false;                 // held for the current step's `after` event (no stop)
   bool started_ = false;
   core::Pose home_;
   std::vector<core::Vec3> start_positions_;  // per object (objects_ order): body origin at start

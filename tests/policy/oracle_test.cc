@@ -128,5 +128,41 @@ TEST(ExpertPolicy, YieldsSidewaysAwayFromTheIntrudingPalm) {
   EXPECT_LT(sideways(0.10), -1e-3);
 }
 
+// I3 before the "your turn" cue: a demonstrator's head leaning in within kSlowDistance of the
+// waiting hand makes the oracle back off, up and away from bottle B (moving toward B would be
+// the start of `imitate`, premature); with the head far away it holds still. A stop cue (I4)
+// would hold it still whatever the distance (the `still` constraint).
+TEST(ExpertPolicy, WaitingForTheCueItBacksAwayFromAHeadLeaningInButNeverTowardItsObject) {
+  const EpisodeInfo info = info_for("tasks/I3_demo_imitate.yaml", 0);
+  const auto motion = [&](const core::Vec3& head) {
+    ExpertPolicy oracle(Competence::kOracle);
+    oracle.reset(info);
+    Observation obs = observation_for(*info.episode, 0.05);
+    for (const human::Joint j : {human::Joint::kHead, human::Joint::kNeck}) {
+      obs.state->human_joints_W[static_cast<size_t>(human::index(j))] = head;
+    }
+    core::Vec3 moved = core::Vec3::Zero();
+    for (int k = 1; k <= 10; ++k) {
+      obs.time = 0.05 * k;
+      const ActionChunk chunk = oracle.act(obs);
+      validate_chunk(chunk, ActionSpace::kEeDelta, ActionLimits{});
+      moved += core::Vec3(chunk.actions[0][0], chunk.actions[0][1], chunk.actions[0][2]);
+    }
+    return moved;
+  };
+  EXPECT_NEAR(motion(core::Vec3(1.3, 0, 1.4)).norm(), 0.0, 1e-12);
+  const core::Vec3 away = motion(core::Vec3(0.85, 0, 1.35));
+  EXPECT_GT(away.norm(), 0.02);
+  EXPECT_LT(away.x(), 0.0);  // back, away from the head
+  const ObjectPose* b = nullptr;
+  const Observation obs = observation_for(*info.episode, 0.05);
+  for (const ObjectPose& o : obs.state->objects) {
+    if (o.name == "inst_b") b = &o;
+  }
+  ASSERT_NE(b, nullptr);
+  const core::Vec3 to_b = b->X_WO.translation - obs.proprio.X_WT.translation;
+  EXPECT_LT(away.dot(to_b.normalized()), 0.0);
+}
+
 }  // namespace
 }  // namespace hribench::policy
