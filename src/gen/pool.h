@@ -33,11 +33,13 @@ std::string_view to_string(Split split);  // "adapt" | "eval" | "test"
 // Throws core::InputError (where = `where`) for anything else.
 Split split_from_name(std::string_view name, std::string_view where);
 
-// Episodes per task in each split.
+// Episodes per task in each split (defaults: issue 7's >= 50 adapt and >= 10 eval, and a hidden
+// test split of 5, so that 150 candidates fill every task of pool/v1: 65 of the 150 candidates
+// of someone_else_places validate).
 struct SplitSizes {
   size_t adapt = 50;
   size_t eval = 10;
-  size_t test = 10;
+  size_t test = 5;
   size_t total() const { return adapt + eval + test; }
 };
 
