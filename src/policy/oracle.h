@@ -97,6 +97,9 @@ class ExpertPolicy : public Policy {
   // between the fingers, else phase 0 (a retry).
   void squeeze(const World& world, double width, const core::Vec3& grasp, double preshape, double rate,
                double grip);
+  // The gripper, commanded closed, holds object k (objects_ order): the fingers stopped apart
+  // and the object's centre within reach of the TCP.
+  bool holds(const World& world, size_t k) const;
   void run_place(const World& world, const PlanStep& step);
   void run_home(const World& world);
   // Where to put `object` on/in `target` (pose X_WC): the grid point of the target's footprint

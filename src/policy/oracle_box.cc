@@ -137,10 +137,8 @@ void ExpertPolicy::run_leave(const World& world, const PlanStep& step) {
   const size_t k = index_of(objects_, step.object);
   const size_t c = index_of(objects_, step.target);
   HRIB_CHECK(k < objects_.size() && c < objects_.size()) << step.object << " " << step.target;
-  const ObjectGeometry& g = objects_[k];
   const Vec3 tcp = world.X_WT.translation;
-  const Vec3 centre = world.centre(k, g.half_extents);
-  const bool holding = gripper_ < 0.5 && world.width > kHoldingWidth && (centre - tcp).norm() < 0.06 + g.half_extents.z();
+  const bool holding = holds(world, k);
   // Lost it (or not yet holding it) inside a box: take it again.
   const size_t box = box_containing(world, k);
   if (!holding && box < objects_.size()) {

@@ -217,8 +217,7 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
                                          joint(side == 0 ? human::Joint::kLeftElbow : human::Joint::kRightElbow))
                               .value_or(world.palm(side));
   if (step.kind == StepKind::kOffer) {
-    const bool holding = gripper_ < 0.5 && world.width > kHoldingWidth &&
-                         (centre - tcp).norm() < 0.06 + g.half_extents.z();
+    const bool holding = holds(world, k);
     if (phase_ < 20) {
       if (holding && (phase_ == 0 || phase_ >= 3)) {
         set_phase(20, world.time);

@@ -90,14 +90,17 @@ void ExpertPolicy::squeeze(const World& world, double width, const Vec3& grasp, 
   }
 }
 
+bool ExpertPolicy::holds(const World& world, size_t k) const {
+  const Vec3 centre = world.centre(k, objects_[k].half_extents);
+  return gripper_ < 0.5 && world.width > kHoldingWidth &&
+         (centre - world.X_WT.translation).norm() < 0.06 + objects_[k].half_extents.z();
+}
+
 void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
   const size_t k = index_of(objects_, step.object);
   HRIB_CHECK(k < objects_.size()) << step.object;
-  const ObjectGeometry& g = objects_[k];
   const Vec3 tcp = world.X_WT.translation;
-  const Vec3 centre = world.centre(k, g.half_extents);
-  const bool holding = gripper_ < 0.5 && world.width > kHoldingWidth &&
-                       (centre - tcp).norm() < 0.06 + g.half_extents.z();
+  const bool holding = holds(world, k);
   // Not holding it yet (or lost it before the release): pick it first.
   if (phase_ < 10) {
     if (holding && (phase_ == 0 || phase_ >= 3)) {  // already holding it, or lifting it
