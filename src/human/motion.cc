@@ -908,7 +908,21 @@ void build_receive(PlanBuilder& b) {
   b.begin();
   const Vec3 C = b.to_F(b.zone().center);
   const Vec3 fingers = horizontal_dir(b.shoulder_F(h), C);
-  b.move("reach", b.num("duration"), h, C, palm_choice(h, b.choice("palm"), fingers));
+  const Quat rotation = palm_choice(h, b.choice("palm"), fingers);
+  // With shift_by: held out short of the zone first, then moved into it (same hand rotation).
+  Vec3 first = C;
+  if (b.has("shift_by")) {
+    first = b.to_F(b.zone().center - b.point_W("shift_by"));
+    if ((first - C).norm() > 0.005 && b.num("shift") < 0.2) {
+      throw core::InputError("motion.shift", "at least 0.2 s when shift_by moves the hand",
+                             fmt::format("{}", b.num("shift")));
+    }
+  }
+  b.move("reach", b.num("duration"), h, first, rotation);
+  b.push("present", b.num("present"));
+  b.move_hand(h, C, rotation, b.swivel());
+  b.look_at(C);
+  b.push("shift", b.num("shift"));
   b.push("open", b.num("open"), true);
   b.set_grip(h, 1, b.object());
   b.push("close", b.num("close"));

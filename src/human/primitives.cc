@@ -188,11 +188,18 @@ std::vector<PrimitiveInfo> build_catalog() {
                 num("retract", "s", 0.8, 0, 3, "retract"), palm({"up", "medial"}, "medial"),
                 swivel(), via(), decel(0.55), tremor()}});
   c.push_back({"receive", "open hand to a zone, close on the object, pull back", true,
-               {ph("reach", "open hand moves into the zone"),
+               {ph("reach", "open hand moves out (into the zone, or short of it by shift_by)"),
+                ph("present", "the open hand held out where the reach ended"),
+                ph("shift", "the open hand moves by shift_by into the zone"),
                 wait_ph("open", "open hand waits until the object is in the palm"),
                 ph("close", "hand closes on the object"), ph("retract", "pull back with it")},
                {onset(), hand(), zone(), object("the object received"),
                 num("duration", "s", 1.0, 0.4, 3, "reach"),
+                num("present", "s", 0, 0, 5, "held out before the shift"),
+                num("shift", "s", 0, 0, 3, "the move into the zone (at least 0.2 s with shift_by)"),
+                point("shift_by", false,
+                      "offset (W, m) of the zone from where the hand is first held out: a receiving "
+                      "hand that moves while the giver comes (absent: it reaches the zone directly)"),
                 num("open", "s", 0.3, 0, 60, "minimum open wait"),
                 num("close", "s", 0.3, 0.1, 1, "close"), num("retract", "s", 0.8, 0, 3, "retract"),
                 palm({"up", "medial"}, "up"), swivel(), via(), decel(0.55), tremor()}});

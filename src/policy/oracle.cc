@@ -173,6 +173,7 @@ void ExpertPolicy::begin_step(size_t i, const World& world) {
   retries_ = 0;
   latched_valid_ = false;
   latched_target_valid_ = false;
+  latched_palm_valid_ = false;
   spot_valid_ = false;
   // The baselines' world model: refreshed here until a disruption has started, then kept.
   bool disrupted = false;

@@ -171,6 +171,8 @@ class ExpertPolicy : public Policy {
   bool latched_valid_ = false;
   core::Vec3 latched_target_ = core::Vec3::Zero();  // the target object's pose then
   bool latched_target_valid_ = false;
+  core::Vec3 latched_palm_ = core::Vec3::Zero();  // baselines: the receiving palm first seen held out
+  bool latched_palm_valid_ = false;
   // Baselines: object positions (objects_ order) as last refreshed at a step's start; not
   // refreshed once a disruption act has started (no re-planning after a disruption).
   std::vector<core::Vec3> believed_;

@@ -228,18 +228,25 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
       }
     }
     gripper_ = 0.0;
-    const Vec3 into = palm + (tcp - centre) + Vec3(0, 0, 0.02);
-    // Until the receiving hand is open: toward a palm the person shows with a gesture
+    Vec3 into = palm + (tcp - centre) + Vec3(0, 0, 0.02);
+    // Until the receiving hand is held out (receive.present): toward a palm the person shows with a gesture
     // (give_me), stopping short of it on the robot's side; otherwise (a hand still reaching
     // out, through where the robot would wait) in front of the robot. Then over the palm and
     // down into it.
     const std::string receiver = receiving_act(step.object);
-    if (!receiver.empty() && !seen(receiver + ".open") && competence_ != Competence::kBlind) {
+    if (!receiver.empty() && !seen(receiver + ".present") && competence_ != Competence::kBlind) {
       speed_ = kMaxSpeed;
       const Vec3 toward = Vec3(palm.x(), palm.y(), 0).normalized();
       target_.translation = palm_shown(side) ? Vec3(into + Vec3(0, 0, kOfferAbove) - kOfferStandoff * toward)
                                              : Vec3(0.40, std::clamp(tcp.y(), -0.2, 0.2), 1.0);
       return;
+    }
+    // The baselines do not re-plan: they bring it where they first saw the hand held out, also
+    // when the hand then moves (receive's shift_by); the oracle follows the live palm.
+    if (competence_ != Competence::kOracle) {
+      if (!latched_palm_valid_) latched_palm_ = palm;
+      latched_palm_valid_ = true;
+      into = latched_palm_ + (tcp - centre) + Vec3(0, 0, 0.02);
     }
     // Over the palm first, then down into it (the hand housing stays clear of the fingers); a
     // hand held out without a gesture: within a cone over it (twice as high as it is off to the

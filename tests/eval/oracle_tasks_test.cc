@@ -138,6 +138,20 @@ TEST(OracleBaselines, BoxRetrievalIsDoneByReactiveAndBrokenByBlind) {
   EXPECT_TRUE(has_label(blind.metrics, FailureLabel::kPremature)) << describe(blind);
 }
 
+// C2 with a moving receiving hand (seed 1: held out, then 10 cm sideways while the robot comes):
+// the oracle follows the palm; reactive brings the object where the hand was first held out,
+// the hand never closes on it and the episode runs out. With a hand that stays (seed 7, shift 0)
+// reactive hands it over.
+TEST(OracleBaselines, ReactiveDeliversToWhereTheMovingReceivingHandWas) {
+  const Outcome oracle = run_task("tasks/C2_handover_r2h.yaml", 1, "oracle");
+  EXPECT_TRUE(oracle.metrics.success) << describe(oracle);
+  const Outcome moved = run_task("tasks/C2_handover_r2h.yaml", 1, "reactive");
+  EXPECT_FALSE(moved.metrics.success);
+  EXPECT_EQ(moved.metrics.primary_label, FailureLabel::kTimeout) << describe(moved);
+  const Outcome still = run_task("tasks/C2_handover_r2h.yaml", 7, "reactive");
+  EXPECT_TRUE(still.metrics.success) << describe(still);
+}
+
 // A trace for debugging one episode: HRIB_TASK=tasks/X.yaml HRIB_SEED=3 HRIB_POLICY=oracle
 // eval_test --gtest_also_run_disabled_tests --gtest_filter='*DISABLED_Trace*'
 TEST(OracleTrace, DISABLED_Trace) {

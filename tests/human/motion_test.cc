@@ -1,5 +1,6 @@
 #include "human/motion.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -292,10 +293,44 @@ TEST(MotionTest, ReactivePhasesWaitForTheirSignal) {
   EXPECT_NEAR(plan.to_clip(30).clip.duration(), plan.nominal_duration(), 1.0 / 30);
   // Receive closes only on its signal.
   const MotionPlan receive = plan_motion(k, standing(k), example("receive"));
-  const double open = receive.timeline({})[1].start;
+  const double open = receive.timeline({})[3].start;
+  ASSERT_EQ(receive.timeline({})[3].name, "open");
   EXPECT_EQ(receive.label_at(open + 10).hands[1].grip, 0);
   const Signals in_palm{{"open", open + 2}};
   EXPECT_EQ(receive.label_at(open + 2 + 0.3 + 0.01, in_palm).hands[1].holding, "item");
+}
+
+TEST(MotionTest, AReceivingHandWithShiftByIsHeldOutShortOfTheZoneThenMovesIntoIt) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  PrimitiveParams p = example("receive");
+  const Vec3 zone = p.zones["zone"].center;
+  const Vec3 shift_by(0.02, -0.12, 0.0);
+  p.points["shift_by"] = shift_by;
+  p.numbers["present"] = 0.5;
+  p.numbers["shift"] = 0.7;
+  const MotionPlan plan = plan_motion(k, standing(k), p);
+  const auto phases = plan.timeline({});
+  ASSERT_EQ(phases[1].name, "present");
+  ASSERT_EQ(phases[2].name, "shift");
+  ASSERT_EQ(phases[3].name, "open");
+  EXPECT_NEAR(phases[1].end - phases[1].start, 0.5, 1e-12);
+  EXPECT_NEAR(phases[2].end - phases[2].start, 0.7, 1e-12);
+  const auto palm = [&](double t) { return hand_point(k, plan.pose_at(t), Side::kRight, HandPoint::kPalm); };
+  // Held still short of the zone while presented, then in the zone once it opens to wait.
+  EXPECT_LT((palm(phases[1].start) - (zone - shift_by)).norm(), 0.01);
+  EXPECT_LT((palm(phases[1].end) - (zone - shift_by)).norm(), 0.01);
+  EXPECT_LT((palm(phases[3].start + 1.0) - zone).norm(), 0.01);
+  // Moving during the shift.
+  EXPECT_GT((palm(phases[2].start + 0.35) - palm(phases[2].start)).norm(), 0.03);
+  // A shift too short to move the hand in is refused with the parameter's name.
+  p.numbers["shift"] = 0.1;
+  try {
+    plan_motion(k, standing(k), p);
+    FAIL() << "expected an InputError";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(std::string(e.what()), ::testing::HasSubstr("motion.shift"));
+    EXPECT_THAT(std::string(e.what()), ::testing::HasSubstr("at least 0.2 s"));
+  }
 }
 
 TEST(MotionTest, RetargetingBendsTheReachSmoothlyToTheNewPlace) {
@@ -472,8 +507,9 @@ TEST(MotionTest, SameParametersGiveIdenticalMotionAndTremorIsSeeded) {
 }
 
 TEST(MotionTest, RandomValidParametersGiveFiniteHumanPoses) {
-  core::Rng rng(2024);
   for (const PrimitiveInfo& prim : primitive_catalog()) {
+    // One stream per primitive: a parameter added to one primitive leaves the others' draws.
+    core::Rng rng = core::Rng(2024).split(std::string(prim.name));
     for (int draw = 0; draw < 6; ++draw) {
       const Skeleton k = Skeleton::FromHeight(rng.uniform(1.55, 1.95));
       PrimitiveParams p = example(std::string(prim.name), rng.uniform() < 0.5 ? "left" : "right");
