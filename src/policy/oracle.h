@@ -123,6 +123,8 @@ class ExpertPolicy : public Policy {
   double lid_arm_distance(const World& world, const std::array<core::Vec3, 4>& points, int side) const;
   // The human act that receives an object (primitive receive), or "".
   std::string receiving_act(const std::string& object) const;
+  // Whether the human act `act` holds its palm turned sideways (its `palm: medial`).
+  bool palm_turned_in(const std::string& act) const;
   // Hand `side` (0 left, 1 right) is held out to ask for or receive an object (a give_me or
   // receive act with that hand is running): the handover's goal, not an intrusion.
   bool receiving_hand(int side) const;

@@ -17,6 +17,11 @@ namespace {
 // short of a shown palm (horizontally, toward the robot) until the hand opens.
 constexpr double kOfferAbove = 0.10;
 constexpr double kOfferStandoff = 0.12;
+// A receiving palm turned sideways (receive's `palm: medial`) closes its fingers across its
+// whole height: the gripper's fingertips (the TCP) stay this far above the palm centre, the
+// object held out below them (fingers lower got clamped against the gripper, which then could
+// not open before the person pulled).
+constexpr double kMedialPalmClearance = 0.05;
 // Taking from a hand: the gripper waits this far short of the object (horizontally, toward the
 // robot) and this high above its grasp point while the person reaches, then comes in over the
 // grasp point from kTakeAbove.
@@ -248,6 +253,9 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
       latched_palm_valid_ = true;
       into = latched_palm_ + (tcp - centre) + Vec3(0, 0, 0.02);
     }
+    if (!receiver.empty() && palm_turned_in(receiver)) {
+      into.z() = std::max(into.z(), (competence_ == Competence::kOracle ? palm : latched_palm_).z() + kMedialPalmClearance);
+    }
     // Over the palm first, then down into it (the hand housing stays clear of the fingers); a
     // hand held out without a gesture: within a cone over it (twice as high as it is off to the
     // side), so a palm at the edge of the robot's reach is still come down to (a tall object
@@ -337,6 +345,17 @@ bool ExpertPolicy::receiving_hand(int side) const {
   for (const auto& entry : episode_->acts) {
     if (hand_of(entry.value, {"give_me", "receive"}) != (side == 0 ? "left" : "right")) continue;
     if (seen(entry.name + ".start") && !seen(entry.name + ".end")) return true;
+  }
+  return false;
+}
+
+bool ExpertPolicy::palm_turned_in(const std::string& act) const {
+  for (const auto& entry : episode_->acts) {
+    if (entry.name != act || !entry.value.motion) continue;
+    for (const auto& param : entry.value.motion->params) {
+      const script::Expr& e = param.value.scalar.expr;
+      if (param.name == "palm" && e.kind == script::Expr::Kind::kString) return e.text == "medial";
+    }
   }
   return false;
 }

@@ -79,6 +79,8 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/C1_handover_h2r.yaml", 12},
                                            TaskCase{"tasks/C2_handover_r2h.yaml", 1},
                                            TaskCase{"tasks/C2_handover_r2h.yaml", 11},
+                                           // a palm turned sideways (medial): offered high in it
+                                           TaskCase{"tasks/C2_handover_r2h.yaml", 1003},
                                            TaskCase{"tasks/C3_box_retrieval.yaml", 0},
                                            TaskCase{"tasks/C4_co_lift.yaml", 0}));
 
