@@ -12,6 +12,134 @@ namespace hribench::policy {
 
 using namespace oracle_internal;  // NOLINT: the expert's own internals
 
+namespace {
+
+using Joints = std::array<Vec3, kHumanKeypoints>;
+
+// Closest distance between the segments ab and cd (Ericson, Real-Time Collision Detection 5.1.9),
+// with the closest point on ab.
+double segments_distance(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, Vec3& on_ab,
+                         Vec3& on_cd) {
+  const Vec3 d1 = b - a;
+  const Vec3 d2 = d - c;
+  const Vec3 r = a - c;
+  const double aa = d1.squaredNorm();
+  const double ee = d2.squaredNorm();
+  const double f = d2.dot(r);
+  double s = 0;
+  double t = 0;
+  if (aa <= 1e-12) {
+    t = ee > 1e-12 ? std::clamp(f / ee, 0.0, 1.0) : 0.0;
+  } else if (ee <= 1e-12) {
+    s = std::clamp(-d1.dot(r) / aa, 0.0, 1.0);
+  } else {
+    const double cc = d1.dot(r);
+    const double bb = d1.dot(d2);
+    const double denom = aa * ee - bb * bb;
+    s = denom > 1e-12 ? std::clamp((bb * f - cc * ee) / denom, 0.0, 1.0) : 0.0;
+    t = (bb * s + f) / ee;
+    if (t < 0) {
+      t = 0;
+      s = std::clamp(-cc / aa, 0.0, 1.0);
+    } else if (t > 1) {
+      t = 1;
+      s = std::clamp((bb - cc) / aa, 0.0, 1.0);
+    }
+  }
+  on_ab = a + s * d1;
+  on_cd = c + t * d2;
+  return (on_ab - on_cd).norm();
+}
+
+// The surface separation the oracle estimates between the robot's hand and wrist (capsules
+// about the TCP pose: the hand housing 0.2 m across the fingers, the fingers, the flange and
+// the wrist above) and the person's arms, hands (a ball about the wrist: the hand may point
+// anywhere), head and chest, m; `away` is the unit direction from the person's nearest point
+// to the robot's (the motion that increases it).
+double intrusion_gap(const Pose& X_WT, const Joints& joints, Vec3& away) {
+  struct Capsule {
+    Vec3 a, b;
+    double radius = 0;
+  };
+  const Vec3 tcp = X_WT.translation;
+  const Vec3 up = X_WT.rotation * Vec3(0, 0, -1);
+  const Vec3 across = X_WT.rotation * Vec3(0, 1, 0);
+  const Vec3 housing = tcp + (model::kTcpOffset - 0.035) * up;
+  const std::array<Capsule, 4> robot = {
+      Capsule{housing - 0.07 * across, housing + 0.07 * across, 0.035}, Capsule{tcp, tcp + 0.05 * up, 0.02},
+      Capsule{tcp + 0.11 * up, tcp + 0.2 * up, 0.06}, Capsule{tcp + 0.2 * up, tcp + 0.32 * up, 0.06}};
+  using human::Joint;
+  const auto joint = [&](Joint j) { return joints[static_cast<size_t>(human::index(j))]; };
+  const Vec3 head = joint(Joint::kHead);
+  const std::array<Capsule, 9> body = {
+      Capsule{joint(Joint::kLeftWrist), joint(Joint::kLeftWrist), kHandReach},
+      Capsule{joint(Joint::kRightWrist), joint(Joint::kRightWrist), kHandReach},
+      Capsule{joint(Joint::kLeftElbow), joint(Joint::kLeftWrist), 0.04},
+      Capsule{joint(Joint::kRightElbow), joint(Joint::kRightWrist), 0.04},
+      Capsule{joint(Joint::kLeftShoulder), joint(Joint::kLeftElbow), 0.05},
+      Capsule{joint(Joint::kRightShoulder), joint(Joint::kRightElbow), 0.05},
+      Capsule{head, head + Vec3(0, 0, 0.06), 0.1},
+      Capsule{joint(Joint::kSpine3), joint(Joint::kNeck), 0.12},
+      Capsule{joint(Joint::kSpine1), joint(Joint::kSpine3), 0.11}};
+  double gap = 1e9;
+  away = Vec3(-1, 0, 0);
+  for (const Capsule& r : robot) {
+    for (const Capsule& h : body) {
+      Vec3 on_robot;
+      Vec3 on_body;
+      const double d = segments_distance(r.a, r.b, h.a, h.b, on_robot, on_body) - r.radius - h.radius;
+      if (d < gap) {
+        gap = d;
+        if ((on_robot - on_body).norm() > 1e-6) away = (on_robot - on_body).normalized();
+      }
+    }
+  }
+  return gap;
+}
+
+// The largest speed toward a person at which the robot keeps METRICS.md's protective
+// separation distance S_p (human speed 2.0 m/s within 0.5 m, else 1.6; reaction 0.1 s,
+// stopping at 3 m/s^2, 0.05 m intrusion and uncertainty) at separation d, m/s.
+double protective_speed(double d) {
+  const double v_h = d < 0.5 ? 2.0 : 1.6;
+  const double a = 1.0 / 6;
+  const double b = v_h / 3 + 0.1;
+  const double c = 0.1 * v_h + 0.05 - d;
+  return c >= 0 ? 0.0 : (-b + std::sqrt(b * b - 4 * a * c)) / (2 * a);
+}
+
+// Yielding to an intruding person: the speed scale toward the yield pose `target` (commanded
+// at `speed`), or 0 and a back-off direction `retreat` (times kRetreatSpeed) when the estimated
+// separation is below kProtectiveGap. Backing off moves away from the person, never down
+// (rising a little when low: the fingers may be beside an object), and stays in the robot's
+// half of the workspace.
+double yield_scale(const Pose& X_WT, const Joints& joints, const Vec3& target, double speed, Vec3& retreat) {
+  retreat = Vec3::Zero();
+  Vec3 away;
+  const double gap = intrusion_gap(X_WT, joints, away);
+  const Vec3 tcp = X_WT.translation;
+  if (gap < kProtectiveGap) {
+    Vec3 dir = away;
+    dir.z() = std::max(dir.z(), tcp.z() < kYieldZ - 0.03 ? 0.3 : 0.0);
+    if (tcp.x() < kYieldX - 0.1) dir.x() = std::max(dir.x(), 0.0);
+    if (std::abs(tcp.y()) > 0.45 && dir.y() * tcp.y() > 0) dir.y() = 0;
+    if (tcp.z() > kYieldZ + 0.25) dir.z() = std::min(dir.z(), 0.0);
+    if (dir.norm() > 1e-6) retreat = kIntrusionRetreatFactor * dir.normalized();
+    return 0;
+  }
+  const Vec3 to_go = target - tcp;
+  if (to_go.norm() < 1e-3 || speed <= 0) return 1.0;
+  // The rate at which the motion closes the gap (m per m), from 1 cm along it.
+  Pose ahead = X_WT;
+  ahead.translation = tcp + 0.01 * to_go.normalized();
+  Vec3 unused;
+  const double closing = (gap - intrusion_gap(ahead, joints, unused)) / 0.01;
+  if (closing <= 0) return 1.0;
+  return std::clamp(protective_speed(gap - kGapMargin) / (closing * speed), 0.0, 1.0);
+}
+
+}  // namespace
+
 ExpertPolicy::ExpertPolicy(Competence competence) : competence_(competence) {}
 
 PolicySpec ExpertPolicy::spec() const {
@@ -239,8 +367,26 @@ ActionChunk ExpertPolicy::act(const Observation& observation) {
     if (!step.pause_on.empty() && seen(step.pause_on)) hold = true;
   }
   // A grasp being closed is finished first (lifting a half-closed grasp drops the object).
-  const bool closing = phase_ == 2 && current_ < plan_.size();
-  const bool yielding = competence_ == Competence::kOracle && disruption_running() && !closing;
+  bool closing = phase_ == 2 && current_ < plan_.size();
+  const bool disrupted = competence_ == Competence::kOracle && disruption_running();
+  // ... except when a person reaches in: a top-down grasp of an object on the table is cut
+  // short at once, the fingers gripping what they already touch (the robot backs off holding
+  // it) or opening (the pick starts over once the person has left).
+  if (closing && disrupted) {
+    const PlanStep& step = plan_[current_];
+    const size_t k = index_of(objects_, step.object);
+    const bool table_pick = (step.kind == StepKind::kPick || step.kind == StepKind::kPlace ||
+                             step.kind == StepKind::kPutBack) &&
+                            k < objects_.size() && !starts_in_hand(step.object) &&
+                            box_containing(world, k) >= objects_.size();
+    if (table_pick) {
+      const bool touching = world.width < grip_width(objects_[k].kind, objects_[k].half_extents) + 0.002;
+      gripper_ = touching ? 0.0 : 1.0;
+      set_phase(touching ? 3 : 0, world.time);
+      closing = false;
+    }
+  }
+  const bool yielding = disrupted && !closing;
   if (yielding) {
     restart_approach();
     // Yield to an intruding person: back off toward the robot's side of the table and wait.
@@ -277,7 +423,8 @@ ActionChunk ExpertPolicy::act(const Observation& observation) {
 
   holding_ = hold;
   Vec3 retreat = Vec3::Zero();
-  const double scale = yielding ? 1.0 : separation_scale(world, retreat);
+  const double scale = yielding ? yield_scale(world.X_WT, world.joints, target_.translation, speed_, retreat)
+                                : separation_scale(world, retreat);
   if (retreat.norm() > 0) restart_approach();
   return ActionChunk{ActionSpace::kEeDelta, {motion_action(world, scale, retreat)}};
 }

@@ -35,6 +35,16 @@ inline constexpr double kSqueezeDepth = 0.006;   // m
 inline constexpr double kPalmDistance = 0.08;     // m: palm centre beyond the wrist along the forearm
 inline constexpr double kHousingClearance = -0.03;  // m: TCP vs a container top (housing 0.044 above)
 inline constexpr double kYieldSpeed = 0.6;         // m/s backing off from a disruption
+// While yielding to an intruding person the oracle keeps the surface separation it estimates
+// (intrusion_gap in oracle.cc: the robot's hand and wrist, the person's arms, hands, head and
+// chest as capsules; within about 0.04 m of the simulator's d(t)) at least kProtectiveGap:
+// METRICS.md's S_p of a resting robot near a person is 0.25 m. Below it the robot backs off,
+// kIntrusionRetreatFactor times kRetreatSpeed; toward the yield pose it approaches the person
+// no faster than S_p allows at the estimate less kGapMargin.
+inline constexpr double kProtectiveGap = 0.31;     // m
+inline constexpr double kGapMargin = 0.05;         // m
+inline constexpr double kIntrusionRetreatFactor = 2.5;
+inline constexpr double kHandReach = 0.19;         // m: a hand's extent around the wrist (any bend)
 
 inline bool is_container(const std::string& kind) { return kind == "bin" || kind == "tray" || kind == "box"; }
 

@@ -71,6 +71,11 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/I5_contradiction.yaml", 0},
                                            TaskCase{"tasks/I5_contradiction.yaml", 1},
                                            TaskCase{"tasks/X1_intrusion_yield.yaml", 0},
+                                           // the hand arrives while the fingers close on the cube
+                                           // (14, 1001: from above), the yield pose within reach (1036)
+                                           TaskCase{"tasks/X1_intrusion_yield.yaml", 14},
+                                           TaskCase{"tasks/X1_intrusion_yield.yaml", 1001},
+                                           TaskCase{"tasks/X1_intrusion_yield.yaml", 1036},
                                            TaskCase{"tasks/X2_object_moved.yaml", 0},
                                            TaskCase{"tasks/X3_someone_else_places.yaml", 0},
                                            TaskCase{"tasks/X4_blocked_target.yaml", 0},
