@@ -13,12 +13,15 @@
 //              says for the competence);
 //   oracle,
 //   reactive — a "stop" cue halts the robot (held pose) until the next "go" cue;
-//   oracle   — yields while a disruption act runs (backs off toward its own side of the table);
+//   oracle   — yields while a disruption act runs (backs off toward its own side of the table,
+//              keeping the protective separation by an estimate of the surface distance to the
+//              person: intrusion_gap in oracle.cc; a grasp closing then is cut short);
 //              speed-and-separation monitoring against the human arms (slow below
 //              kSlowDistance, stop below kStopDistance, back off below kRetreatDistance,
 //              resume when clear), except in handover steps; re-plans grasps and placements
-//              from the live object poses (the baselines keep the pose seen when the step
-//              began); pauses a contradicted step when the contradicting act starts.
+//              from the live object poses and follows a moving receiving palm (the baselines
+//              keep the poses seen when the step began); pauses a contradicted step when the
+//              contradicting act starts.
 // Deterministic: actions are a function of the episode and the observations.
 
 #include <array>
