@@ -568,8 +568,11 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
     // robot point would be farther from the body.
     const Vec3 to_go = target_.translation - tcp;
     const bool homeward = target_.translation.head<2>().norm() < tcp.head<2>().norm() - 0.01;
+    // A person asking for the object with a gesture (I2) waits leaning in for it: picking it
+    // goes on likewise (down onto it, away from their head), or neither would ever move.
+    const bool asked = palm_shown(0) || palm_shown(1);
     Vec3 unused;
-    if (speed_ > 0 && homeward && to_go.norm() > 0.01 &&
+    if (speed_ > 0 && (homeward || asked) && to_go.norm() > 0.01 &&
         nearest(0.02 * to_go.normalized(), unused) > best + 0.005) {
       return kSeparatingScale;
     }

@@ -60,6 +60,42 @@ std::optional<Vec3> receiving_palm(const Vec3& wrist, const Vec3& elbow) {
   if (fingers.norm() < 1e-3) return std::nullopt;
   return Vec3(wrist + kReceivingPalmReach * fingers.normalized());
 }
+// A hand shown palm up with a gesture (give_me, then receive) is held level, its fingers along
+// the horizontal direction from the shoulder to the receiving spot (human/motion.cc): its palm
+// centre lies the skeleton's palm distance beyond the wrist along that direction, level with
+// the wrist (nullopt when degenerate). The hand is a capsule of kHandRadius (times the
+// skeleton's scale) about that line; the robot's fingertips reach kFingertipsBelowTcp below
+// its TCP.
+constexpr double kHandRadius = 0.035;
+constexpr double kFingertipsBelowTcp = 0.013;
+constexpr double kCentreOverPalm = 0.035;
+constexpr double kFingertipsIntoHand = 0.005;
+std::optional<Vec3> shown_palm(const Vec3& wrist, const Vec3& shoulder, double palm_distance) {
+  const Vec3 fingers(wrist.x() - shoulder.x(), wrist.y() - shoulder.y(), 0);
+  if (fingers.norm() < 1e-3) return std::nullopt;
+  return Vec3(wrist + palm_distance * fingers.normalized());
+}
+// The centre of a receive act's zone (where the person's palm is brought), or nullopt.
+std::optional<Vec3> zone_centre(const script::Act& act) {
+  if (!act.motion) return std::nullopt;
+  for (const auto& param : act.motion->params) {
+    const script::ValueTree& v = param.value;
+    if (param.name != "zone") continue;
+    for (size_t i = 0; i < v.keys.size() && i < v.items.size(); ++i) {
+      const script::ValueTree& c = v.items[i];
+      if (v.keys[i] == "center" && c.items.size() == 3) {
+        return Vec3(c.items[0].scalar.expr.number, c.items[1].scalar.expr.number, c.items[2].scalar.expr.number);
+      }
+    }
+  }
+  return std::nullopt;
+}
+// Toward a palm shown with a gesture, from low and far (just picked): straight up to the goal's
+// height first, then across to it. A diagonal rise passes under the fingers of a palm held out
+// toward the robot and lifts the hand housing into them.
+Vec3 rise_first(const Vec3& tcp, const Vec3& goal) {
+  return tcp.z() < goal.z() - 0.03 && (goal - tcp).head<2>().norm() > 0.05 ? Vec3(tcp.x(), tcp.y(), goal.z()) : goal;
+}
 }  // namespace
 
 bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
@@ -244,6 +280,7 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
       const Vec3 toward = Vec3(palm.x(), palm.y(), 0).normalized();
       target_.translation = palm_shown(side) ? Vec3(into + Vec3(0, 0, kOfferAbove) - kOfferStandoff * toward)
                                              : Vec3(0.40, std::clamp(tcp.y(), -0.2, 0.2), 1.0);
+      if (palm_shown(side)) target_.translation = rise_first(tcp, target_.translation);
       return;
     }
     // The baselines do not re-plan: they bring it where they first saw the hand held out, also
@@ -256,6 +293,39 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     if (!receiver.empty() && palm_turned_in(receiver)) {
       into.z() = std::max(into.z(), (competence_ == Competence::kOracle ? palm : latched_palm_).z() + kMedialPalmClearance);
     }
+    // A palm shown with a gesture: the object's centre kCentreOverPalm over the palm's centre
+    // (the hand closes on an object within 0.06 m of it), the fingertips at most
+    // kFingertipsIntoHand into the hand, above any other object standing under the palm, and
+    // the last of the way down slowly: the hand closes on the way and the release holds still
+    // there. (Aimed deeper along the forearm's line, the fingers were pressed onto the hand,
+    // whose friction held them shut when they opened to let go, until the person pulled.)
+    bool into_shown_palm = false;
+    if (palm_shown(side) && competence_ == Competence::kOracle) {
+      const human::Skeleton body = human::Skeleton::FromHeight(episode_->human.height.value());
+      const Vec3 wrist = joint(side == 0 ? human::Joint::kLeftWrist : human::Joint::kRightWrist);
+      auto centre_of_palm =
+          shown_palm(wrist, joint(side == 0 ? human::Joint::kLeftShoulder : human::Joint::kRightShoulder), body.palm_distance);
+      // (The receive act's zone, where the person brings the palm, once the wrist is there.)
+      for (const auto& entry : episode_->acts) {
+        if (entry.name != receiver) continue;
+        const auto zone = zone_centre(entry.value);
+        if (zone && (*zone - wrist).norm() < body.palm_distance + 0.03) centre_of_palm = zone;
+      }
+      if (centre_of_palm) {
+        into_shown_palm = true;
+        into = *centre_of_palm + Vec3(0, 0, kCentreOverPalm) + (tcp - centre);
+        into.z() = std::max(into.z(), centre_of_palm->z() + kHandRadius * body.scale + kFingertipsBelowTcp -
+                                          kFingertipsIntoHand);
+        const Vec3 bottom = into - (tcp - world.objects[k].translation);
+        for (size_t i = 0; i < objects_.size(); ++i) {
+          const Vec3& half = objects_[i].half_extents;
+          const double reach = std::max(half.x(), half.y()) + std::max(g.half_extents.x(), g.half_extents.y()) + 0.01;
+          if (i == k || (world.objects[i].translation - bottom).head<2>().norm() > reach) continue;
+          into.z() = std::max(into.z(), world.objects[i].translation.z() + 2 * half.z() + 0.01 + tcp.z() -
+                                            world.objects[k].translation.z());
+        }
+      }
+    }
     // Over the palm first, then down into it (the hand housing stays clear of the fingers); a
     // hand held out without a gesture: within a cone over it (twice as high as it is off to the
     // side), so a palm at the edge of the robot's reach is still come down to (a tall object
@@ -265,10 +335,12 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     const double off = (tcp - into).head<2>().norm();
     target_.translation = palm_shown(side) ? (off > 0.03 ? over : into)
                                            : Vec3(into + Vec3(0, 0, std::min(kOfferAbove, 2 * off)));
+    if (into_shown_palm && off <= 0.03 && tcp.z() < into.z() + 0.06) speed_ = kFineSpeed * 0.5;
     // Low and far from the palm (just picked): up first, not through the reaching arm.
     if (!palm_shown(side) && tcp.z() < into.z() && (tcp - into).head<2>().norm() > 0.10) {
       target_.translation = Vec3(tcp.x(), tcp.y(), over.z());
     }
+    if (palm_shown(side)) target_.translation = rise_first(tcp, target_.translation);
     // Done once the object is in the palm (not when the act's looser goal distance first holds:
     // the person closes the hand only when the object is inside the palm region), or once the
     // hand closes on it.
@@ -280,9 +352,12 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
   }
   // Release once the hand holds it (or a second after the step's event), then withdraw.
   if (phase_ < 30) set_phase(29, world.time);
+  // Until the fingers are open: where the hand is, no farther (the last of the descent into the
+  // palm would press the fingers onto the person's hand, whose friction then holds them shut).
+  if (phase_ <= 30) target_.translation = tcp;
   if (phase_ == 29) {
     gripper_ = 0.0;
-    speed_ = 0;
+    speed_ = kFineSpeed;
     // Blind does not watch the hand: it lets go as soon as the step begins.
     if (competence_ == Competence::kBlind || human_holds(step.object) ||
         world.time - phase_start_ > 1.0) {
@@ -293,7 +368,7 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
   const double elapsed = world.time - phase_start_;
   if (phase_ == 30) {
     gripper_ = 1.0;
-    speed_ = 0;
+    speed_ = kFineSpeed;
     if (elapsed > kOpenTime) set_phase(31, world.time);
   } else {
     gripper_ = 1.0;

@@ -80,6 +80,11 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/X3_someone_else_places.yaml", 0},
                                            TaskCase{"tasks/X4_blocked_target.yaml", 0},
                                            TaskCase{"tasks/I2_gesture_delivery.yaml", 0},
+                                           // I2: a palm held out toward the robot (the offer rose
+                                           // diagonally under its fingers), a person leaning in to
+                                           // ask (the pick stopped for good).
+                                           TaskCase{"tasks/I2_gesture_delivery.yaml", 1008},
+                                           TaskCase{"tasks/I2_gesture_delivery.yaml", 3},
                                            TaskCase{"tasks/C1_handover_h2r.yaml", 0},
                                            TaskCase{"tasks/C1_handover_h2r.yaml", 12},
                                            TaskCase{"tasks/C2_handover_r2h.yaml", 1},
@@ -87,7 +92,14 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            // a palm turned sideways (medial): offered high in it
                                            TaskCase{"tasks/C2_handover_r2h.yaml", 1003},
                                            TaskCase{"tasks/C3_box_retrieval.yaml", 0},
-                                           TaskCase{"tasks/C4_co_lift.yaml", 0}));
+                                           TaskCase{"tasks/C4_co_lift.yaml", 0},
+                                           // C4: a plank square to the home yaw (the grasp's yaw
+                                           // target flipped by pi while closing).
+                                           TaskCase{"tasks/C4_co_lift.yaml", 1006},
+                                           TaskCase{"tasks/C4_co_lift.yaml", 1018},
+                                           TaskCase{"tasks/C4_co_lift.yaml", 1021},
+                                           TaskCase{"tasks/C4_co_lift.yaml", 1029},
+                                           TaskCase{"tasks/C4_co_lift.yaml", 1035}));
 
 // The baselines fail the Intruder tasks for the reason their missing competence predicts:
 // X1 no yielding (carries on past the intruding hand: separation violated beyond the script's
