@@ -104,10 +104,16 @@ void ExpertPolicy::run_co_carry(const World& world, const PlanStep& step) {
   const bool holding = gripper_ < 0.5 && world.width > kHoldingWidth && (tcp - grip).norm() < 0.05;
   if (phase_ < kApproach) set_phase(holding ? kHold : kApproach, world.time);
   if (phase_ <= kClose) {
-    // Fingers across the object's width at the robot's end.
+    // Fingers across the object's width at the robot's end: of the two finger yaws that do
+    // (pi apart), the one nearer the hand's yaw now. Wrapped about the home yaw instead, a plank
+    // square to it sat on the wrap's edge: a turn of a hundredth of a degree flipped the target
+    // by pi and the wrist turned the closing grip around the object.
     const Vec3 y_obj = X_WO.rotation * Vec3::UnitY();
     const Vec3 y_home = home_.rotation * Vec3::UnitY();
-    const double yaw = wrap_half(std::atan2(y_obj.y(), y_obj.x()) - std::atan2(y_home.y(), y_home.x()));
+    const Vec3 y_tcp = world.X_WT.rotation * Vec3::UnitY();
+    const double home_yaw = std::atan2(y_home.y(), y_home.x());
+    const double now = std::remainder(std::atan2(y_tcp.y(), y_tcp.x()) - home_yaw, 2 * core::kPi);
+    const double yaw = now + wrap_half(std::atan2(y_obj.y(), y_obj.x()) - home_yaw - now);
     target_.rotation = (core::axis_angle(Vec3::UnitZ(), yaw) * home_.rotation).normalized();
   }
   const Vec3 above = grip + Vec3(0, 0, kEndApproach);
