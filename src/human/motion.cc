@@ -204,6 +204,75 @@ MotionPlan::MotionPlan(Skeleton skeleton, BodyKey start, std::vector<Segment> se
   for (auto& hand : tremor_phase_) {
     for (double& p : hand) p = rng.uniform(0, 2 * core::kPi);
   }
+  leans_.push_back(lean_of(skeleton_, start_));
+  for (const Segment& seg : segments_) leans_.push_back(lean_of(skeleton_, seg.end));
+}
+
+namespace {
+
+// The lean (rad) a wrist target (world) asks for and its direction (pelvis frame, horizontal):
+// mostly forward, a sideways lean would swing the other arm across the hips.
+double lean_need(const Skeleton& k, const SkeletonPose& pose, Side side, const Vec3& wrist, Vec3& dir) {
+  dir = pose.X_WP.rotation.conjugate() * (wrist - pose.X_WP.translation);
+  dir.y() *= 0.3;
+  const double l = lean_for_reach(k, pose, side, wrist, kLeanReach, kMaxLean, dir);
+  dir.z() = 0;
+  dir = dir.norm() > 1e-9 ? Vec3(dir.normalized()) : Vec3::UnitX();
+  return l;
+}
+
+// The shift of each hanging hand (reaching < 1) with its shoulder by a lean (world, never down).
+std::array<Vec3, 2> hanging_shift(const Skeleton& k, SkeletonPose& pose, const Vec3& dir, double lean,
+                                  const std::array<double, 2>& reaching) {
+  std::array<Vec3, 2> out{Vec3::Zero(), Vec3::Zero()};
+  const auto before = forward_kinematics(k, pose);
+  lean_spine(k, pose, dir, lean);
+  const auto after = forward_kinematics(k, pose);
+  for (size_t h = 0; h < 2; ++h) {
+    if (reaching[h] == 1) continue;
+    const auto j = static_cast<size_t>(index(shoulder(side_of(h))));
+    out[h] = after[j].translation - before[j].translation;
+    out[h].z() = std::max(out[h].z(), 0.0);
+    out[h] *= 1 - reaching[h];
+  }
+  return out;
+}
+
+// Weight of the lean at a segment's first key at progress s: early gone where a hand goes down
+// to hang (a trunk still leaning over a hand drawn back stretched the arm behind the body).
+template <class Lean>
+double first_key_weight(const Lean& l0, const Lean& l1, double s) {
+  bool lowering = false;
+  for (size_t h = 0; h < 2; ++h) lowering = lowering || (l0.reaching[h] == 1 && l1.reaching[h] == 0);
+  return lowering ? std::pow(1 - s, 7) : 1 - s;
+}
+
+}  // namespace
+
+MotionPlan::Lean MotionPlan::lean_of(const Skeleton& k, const BodyKey& key) {
+  // The lean for the farther of the two wrist targets, the body upright at the key's stand frame.
+  SkeletonPose pose;
+  pose.X_WP = key.X_WF * core::Pose{Quat::Identity(), Vec3(0, 0, k.pelvis_height)};
+  Lean out;
+  for (size_t h = 0; h < 2; ++h) {
+    const HandKey& hk = key.hands[h];
+    const Vec3 wrist_F = hk.palm + hk.rotation * Vec3(0, 0, k.palm_distance);
+    // Only reaches away from the body lean; a hanging arm moves with its shoulder.
+    const Vec3 off = wrist_F - rest_shoulder(k, side_of(h));
+    if (std::hypot(off.x(), off.y()) < 0.3 * arm_length(k, side_of(h))) continue;
+    out.reaching[h] = 1;
+    Vec3 dir;
+    const double l = lean_need(k, pose, side_of(h), key.X_WF * wrist_F, dir);
+    if (l > out.angle) {
+      out.angle = l;
+      out.dir = dir;
+    }
+  }
+  if (out.angle > 0) {
+    const auto shift = hanging_shift(k, pose, out.dir, out.angle, out.reaching);
+    for (size_t h = 0; h < 2; ++h) out.shift[h] = key.X_WF.rotation.conjugate() * shift[h];
+  }
+  return out;
 }
 
 std::vector<MotionPlan::Resolved> MotionPlan::resolve(const Signals& signals,
@@ -359,37 +428,48 @@ SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t) const 
     }
     targets[h] = {key.X_WF * wrist_F, hk.swivel, (key.X_WF.rotation * R).normalized(), hk.free_roll};
   }
-  // Torso lean for the farther of the two targets.
-  double lean = 0;
-  Vec3 lean_dir = Vec3::UnitX();
-  std::array<bool, 2> hanging{};
+  // Torso lean: the keys' leans interpolated on the segment's progress, or more where a hand
+  // reaching at both keys asks for more now. (A lean computed for each instant came in at once
+  // when a hand's target left the hanging zone, and a hand counted as hanging went with its
+  // shoulder until the instant its target left the zone: wrists jumped by decimetres.)
+  const Lean& l0 = leans_[segments_.empty() ? 0 : segment];
+  const Lean& l1 = leans_[segments_.empty() ? 0 : segment + 1];
+  const double s = seg != nullptr ? seg->profile.progress(tau) : 1.0;
+  const double w0 = first_key_weight(l0, l1, s);
+  double lean = w0 * l0.angle + s * l1.angle;
+  Vec3 lean_dir = w0 * l0.angle * l0.dir + s * l1.angle * l1.dir;
   for (size_t h = 0; h < 2; ++h) {
-    // Only reaches away from the body lean; a hanging arm moves with its shoulder.
-    const Vec3 off = key.X_WF.inverse() * targets[h].wrist - rest_shoulder(k, side_of(h));
-    hanging[h] = std::hypot(off.x(), off.y()) < 0.3 * arm_length(k, side_of(h));
-    if (hanging[h]) continue;
-    // Lean mostly forward: a sideways lean would swing the other arm across the hips.
-    Vec3 dir = pose.X_WP.rotation.conjugate() * (targets[h].wrist - pose.X_WP.translation);
-    dir.y() *= 0.3;
-    const double l = lean_for_reach(k, pose, side_of(h), targets[h].wrist, kLeanReach, kMaxLean, dir);
+    if (l0.reaching[h] == 0 || l1.reaching[h] == 0) continue;
+    Vec3 dir;
+    const double l = lean_need(k, pose, side_of(h), targets[h].wrist, dir);
     if (l > lean) {
       lean = l;
       lean_dir = dir;
     }
   }
-  if (lean > 0) {
-    // A hanging arm follows its shoulder forward and sideways but never down: carried down
-    // with a forward lean, it sank into whatever the person leans over (a table's edge).
-    const auto before = forward_kinematics(k, pose);
-    lean_spine(k, pose, lean_dir, lean);
-    const auto after = forward_kinematics(k, pose);
-    for (size_t h = 0; h < 2; ++h) {
-      if (!hanging[h]) continue;
-      const auto j = static_cast<size_t>(index(shoulder(side_of(h))));
-      Vec3 shift = after[j].translation - before[j].translation;
-      shift.z() = std::max(shift.z(), 0.0);
-      targets[h].wrist += shift;
+  // A hand held where it hangs follows its shoulder forward and sideways but never down: carried
+  // down with a forward lean, it sank into whatever the person leans over (a table's edge). A
+  // hand on its way goes from where its shoulder took it at one key to where it takes it at the
+  // other.
+  std::array<bool, 2> held{};
+  std::array<double, 2> reaching{};
+  for (size_t h = 0; h < 2; ++h) {
+    held[h] = l0.reaching[h] == l1.reaching[h] &&
+              (seg == nullptr || (seg->via[h].empty() && !seg->palm_path[h] &&
+                                  (seg->end.hands[h].palm - (segment == 0 ? start_ : segments_[segment - 1].end).hands[h].palm).norm() < 1e-9));
+    if (held[h]) {
+      reaching[h] = l0.reaching[h];
+    } else if (l0.reaching[h] == 1 && l1.reaching[h] == 0) {
+      // Going down to hang: more and more with the shoulder (not stretched behind a leaning trunk).
+      reaching[h] = 1 - s * s;
+    } else {
+      reaching[h] = 1;
+      targets[h].wrist += key.X_WF.rotation * ((1 - s) * l0.shift[h] + s * l1.shift[h]);
     }
+  }
+  if (lean > 0) {
+    const auto shift = hanging_shift(k, pose, lean_dir, lean, reaching);
+    for (size_t h = 0; h < 2; ++h) targets[h].wrist += shift[h];
   }
   for (size_t h = 0; h < 2; ++h) solve_arm(k, pose, side_of(h), targets[h]);
   // Head: toward the gaze point, yaw at the neck (<= 60 deg), pitch at the head (-30..45 deg).
@@ -501,7 +581,18 @@ MotionPlan MotionPlan::retarget(double t, const Signals& signals, Side side, con
     if ((seg.end.hands[h].palm - old_target).norm() < 1e-9) seg.end.hands[h].palm = target;
     segments.push_back(std::move(seg));
   }
-  return MotionPlan(skeleton_, now, std::move(segments), active_hand_, seed_, tremor_);
+  MotionPlan out(skeleton_, now, std::move(segments), active_hand_, seed_, tremor_);
+  // The new plan starts with the lean the body has now (between this segment's keys).
+  const double s = segments_[i].profile.progress(tau);
+  const Lean& l0 = leans_[i];
+  const Lean& l1 = leans_[i + 1];
+  Lean& start = out.leans_[0];
+  const double w0 = first_key_weight(l0, l1, s);
+  start.angle = w0 * l0.angle + s * l1.angle;
+  const Vec3 dir = w0 * l0.angle * l0.dir + s * l1.angle * l1.dir;
+  start.dir = dir.norm() > 1e-9 ? Vec3(dir.normalized()) : Vec3::UnitX();
+  for (size_t hand = 0; hand < 2; ++hand) start.shift[hand] = (1 - s) * l0.shift[hand] + s * l1.shift[hand];
+  return out;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -785,7 +876,9 @@ void build_point(PlanBuilder& b) {
 void raise_gesture_lower(PlanBuilder& b, Side h, const Vec3& axis, double angle, const Vec3& offset) {
   b.push("raise", b.num("raise"));
   HandOscillation osc;
-  osc.cycles = b.num("cycles");
+  // Whole half cycles, so that the oscillation is back at zero when the gesture ends (a
+  // fractional count left the hand displaced and it jumped back as the lowering began).
+  osc.cycles = std::max(0.5, std::round(2 * b.num("cycles")) / 2);
   osc.angle = angle;
   osc.axis = axis;
   osc.offset = offset;

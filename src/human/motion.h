@@ -172,6 +172,19 @@ class MotionPlan {
   void locate(double t, const std::vector<Resolved>& times, size_t& segment, double& tau) const;
   BodyKey interpolate(size_t segment, double tau) const;
   SkeletonPose build_pose(size_t segment, double tau, double t) const;
+  // The trunk lean at a key: the angle (rad) toward dir (pelvis frame = F, horizontal), per
+  // hand 1 when its arm reaches (0: it hangs and moves with its shoulder) and how far a hanging
+  // wrist goes with its shoulder (F, m). Within a segment the lean is interpolated between its
+  // keys on the segment's progress (the first key's part going early where a hand goes down to
+  // hang; more where a hand reaching at both keys asks for more now), so the trunk and the
+  // wrists move continuously when an arm leaves or enters hanging.
+  struct Lean {
+    double angle = 0;
+    core::Vec3 dir = core::Vec3::UnitX();
+    std::array<double, 2> reaching{};
+    std::array<core::Vec3, 2> shift{core::Vec3::Zero(), core::Vec3::Zero()};
+  };
+  static Lean lean_of(const Skeleton& skeleton, const BodyKey& key);
 
   Skeleton skeleton_;
   BodyKey start_;
@@ -181,6 +194,7 @@ class MotionPlan {
   uint64_t seed_ = 0;
   std::array<std::array<double, 6>, 2> tremor_freq_{};   // per hand: x, y, z; two sines each
   std::array<std::array<double, 6>, 2> tremor_phase_{};
+  std::vector<Lean> leans_;  // of start_, then of each segment's end
 };
 
 // The body key of a pose (stand frame: pelvis yaw, origin under the hip joints; palms and hand

@@ -2,7 +2,9 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -594,6 +596,121 @@ TEST(MotionTest, AHangingArmDoesNotSinkWithAForwardLean) {
   }
   EXPECT_LT(lowest_shoulder, shoulder_z(0) - 0.03);  // the trunk did lean
   EXPECT_GT(lowest_palm, palm_of(lc.clip, 0, Side::kLeft).z() - 0.005);
+}
+
+}  // namespace
+}  // namespace hribench::human
+
+namespace hribench::human {
+namespace {
+
+// Largest wrist speed (m/s, world) of a plan sampled every 5 ms over its nominal duration; the
+// time of it in `at`.
+double max_wrist_speed(const MotionPlan& plan, double& at) {
+  constexpr double dt = 0.005;
+  const Skeleton& k = plan.skeleton();
+  std::array<Vec3, 2> prev{};
+  double worst = 0;
+  const auto n = static_cast<int>(plan.nominal_duration() / dt) + 1;
+  for (int i = 0; i <= n; ++i) {
+    const double t = i * dt;
+    const auto X = forward_kinematics(k, plan.pose_at(t));
+    for (const Side side : {Side::kLeft, Side::kRight}) {
+      const size_t h = side == Side::kLeft ? 0 : 1;
+      const Vec3 w = X[static_cast<size_t>(index(wrist(side)))].translation;
+      if (i > 0 && (w - prev[h]).norm() / dt > worst) {
+        worst = (w - prev[h]).norm() / dt;
+        at = t;
+      }
+      prev[h] = w;
+    }
+  }
+  return worst;
+}
+
+TEST(MotionTest, RandomValidPlansMoveTheWristsContinuously) {
+  // Phases of human pace (>= 0.8 s each): a wrist never moves faster than ~3 m/s. A switch in
+  // how the arms are solved (a lean coming in at once, an arm counted as hanging or not, the
+  // elbow jumping on its circle) moves a wrist by centimetres within one 5 ms step.
+  for (const PrimitiveInfo& prim : primitive_catalog()) {
+    const std::string name(prim.name);
+    const bool plank = name == "lift" || name == "carry" || name == "lower";
+    const bool handling = plank || name == "offer" || name == "receive";
+    core::Rng rng = core::Rng(77).split(name);
+    double worst = 0;
+    std::string worst_draw;
+    for (int draw = 0; draw < (handling ? 24 : 6); ++draw) {
+      const Skeleton k = Skeleton::FromHeight(rng.uniform(1.55, 1.95));
+      PrimitiveParams p = example(name, rng.uniform() < 0.5 ? "left" : "right");
+      p.seed = rng.next_u64();
+      for (const ParamInfo& info : prim.params) {
+        if (info.kind != ParamKind::kNumber || info.name == "onset") continue;
+        const double lo = info.unit == "s" ? std::max(info.min, 0.8) : info.min;
+        const double hi = info.unit == "s" ? std::min(info.max, 3.0) : std::min(info.max, std::max(info.min, 3.0));
+        p.numbers[std::string(info.name)] = rng.uniform(lo, std::max(lo, hi));
+      }
+      if (name == "walk_to") p.numbers["speed"] = rng.uniform(0.3, 1.2);
+      for (auto& [pname, point] : p.points) {
+        if (pname == "to" || pname == "hinge") continue;
+        // A plank end 0.3-0.45 m in front at 0.8-0.95 m (C4), other targets anywhere on the
+        // near half of the table, 0.78-1.3 m high.
+        point = plank ? Vec3(kStandX - rng.uniform(0.3, 0.45), rng.uniform(-0.1, 0.1), rng.uniform(0.8, 0.95))
+                      : Vec3(rng.uniform(0.9, 1.25), rng.uniform(-0.4, 0.4), rng.uniform(0.78, 1.3));
+      }
+      for (auto& [zname, zone] : p.zones) {
+        zone.center = Vec3(rng.uniform(0.9, 1.2), rng.uniform(-0.3, 0.3), rng.uniform(0.85, 1.3));
+      }
+      const SkeletonPose start = SkeletonPose::Standing(k, kStandX, rng.uniform(-0.1, 0.1),
+                                                        core::kPi + rng.uniform(-0.1, 0.1));
+      double at = 0;
+      const double v = max_wrist_speed(plan_motion(k, start, p), at);
+      if (v > worst) {
+        worst = v;
+        worst_draw = fmt::format("draw {} ({} hand, height {:.2f} m) at t = {:.3f} s", draw,
+                                 p.choices.count("hand") ? p.choices["hand"] : "-", k.height, at);
+      }
+    }
+    EXPECT_LT(worst, 3.0) << name << ": " << worst_draw;
+  }
+}
+
+TEST(MotionTest, ATwoHandedPlankLiftReachesWithoutAJump) {
+  // C4 co_lift, generation candidate 89 (episode seed 2389382841100): a tall person reaching
+  // both hands to a low plank end. The trunk's lean came in at once when the right hand's target
+  // left the hanging zone, and the left hand, still counted as hanging, went with its shoulder
+  // until its target left the zone too: the left wrist jumped 0.36 m within 5 ms.
+  const Skeleton k = Skeleton::FromHeight(1.9185);
+  const SkeletonPose start = SkeletonPose::Standing(k, 1.2473, 0.0478, 175.474 * core::kPi / 180);
+  PrimitiveParams p = example("lift");
+  p.points["target"] = Vec3(0.89, -0.0273, 0.85);
+  p.numbers = {{"duration", 0.8622}, {"grasp", 0.5877}, {"grip_width", 0.1383}, {"height", 0.18},
+               {"lift", 1.5268}, {"prep", 0.4552}, {"swivel", 0.5825}, {"tremor", 0.0009}};
+  double at = 0;
+  EXPECT_LT(max_wrist_speed(plan_motion(k, start, p), at), 1.5) << "at t = " << at << " s";
+}
+
+}  // namespace
+}  // namespace hribench::human
+
+namespace hribench::human {
+namespace {
+
+TEST(MotionTest, RetargetingInTheMiddleOfALeaningReachKeepsThePose) {
+  // A far, low reach leans the trunk gradually; the retargeted plan starts from the lean the body
+  // has at that instant, not from the lean its new start key would ask for.
+  const Skeleton k = Skeleton::FromHeight(1.60);
+  PrimitiveParams p = example("receive");
+  p.zones["zone"] = {Vec3(kStandX - 0.65, 0.05, 0.85), 0.05};
+  const MotionPlan plan = plan_motion(k, standing(k), p);
+  const Phase reach = plan.timeline({})[0];
+  const double t = 0.5 * (reach.start + reach.end);
+  const MotionPlan moved = plan.retarget(t, {}, Side::kRight, Vec3(kStandX - 0.6, -0.1, 0.9), 0.6);
+  for (const Joint j : {Joint::kSpine3, Joint::kRightWrist, Joint::kLeftWrist}) {
+    const auto i = static_cast<size_t>(index(j));
+    EXPECT_LT((forward_kinematics(k, plan.pose_at(t))[i].translation -
+               forward_kinematics(k, moved.pose_at(0))[i].translation).norm(), 1e-3)
+        << joint_name(j);
+  }
 }
 
 }  // namespace
