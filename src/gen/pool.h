@@ -25,8 +25,9 @@
 
 namespace hribench::gen {
 
-// Any change to the pipeline that alters the pool must bump this.
-inline constexpr int kPoolVersion = 1;
+// Any change to the pipeline that alters the pool must bump this. 1: pool/v1 (git fae9ab2-
+// 47ceb8a); 2: C2's moving receiving hand and the oracle's X1, I2, C2 and C4 fixes (pool/v2).
+inline constexpr int kPoolVersion = 2;
 
 enum class Split { kAdapt, kEval, kTest };
 std::string_view to_string(Split split);  // "adapt" | "eval" | "test"
@@ -34,8 +35,8 @@ std::string_view to_string(Split split);  // "adapt" | "eval" | "test"
 Split split_from_name(std::string_view name, std::string_view where);
 
 // Episodes per task in each split (defaults: issue 7's >= 50 adapt and >= 10 eval, and a hidden
-// test split of 5, so that 150 candidates fill every task of pool/v1: 65 of the 150 candidates
-// of someone_else_places validate).
+// test split of 5, so that 150 candidates fill every task of the released pool: 65 of the 150
+// candidates of someone_else_places validated in pool/v1).
 struct SplitSizes {
   size_t adapt = 50;
   size_t eval = 10;

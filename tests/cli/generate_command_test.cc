@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gen/pool.h"
 #include "support/run_command.h"
 #include "support/test_files.h"
 
@@ -46,7 +47,7 @@ TEST_F(GenerateCommandTest, WritesManifestReportAndPrintsTheTable) {
   ASSERT_EQ(first_.exit_code, 0) << first_.output;
   EXPECT_NE(first_.output.find("| gesture_delivery | 4 |"), std::string::npos) << first_.output;
   const nlohmann::json manifest = nlohmann::json::parse(read_text(fs::path(dir_) / "manifest.json"));
-  EXPECT_EQ(manifest.at("pool_version"), 1);
+  EXPECT_EQ(manifest.at("pool_version"), gen::kPoolVersion);
   EXPECT_EQ(manifest.at("generator").at("executable_by"), "none");
   EXPECT_GE(manifest.at("episodes").size(), 3u);
   EXPECT_TRUE(fs::exists(fs::path(dir_) / "report.json"));
@@ -81,7 +82,8 @@ TEST_F(GenerateCommandTest, EvalRunsThePoolSplitAndNamesThePoolVersion) {
     }
   }
   EXPECT_TRUE(found);
-  EXPECT_NE(read_text(fs::path(out) / "results.json").find("\"pool_version\": 1"), std::string::npos);
+  EXPECT_NE(read_text(fs::path(out) / "results.json").find("\"pool_version\": " + std::to_string(gen::kPoolVersion)),
+            std::string::npos);
   fs::remove_all(out);
 }
 

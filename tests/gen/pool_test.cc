@@ -72,9 +72,10 @@ TEST(Pool, ManifestRoundTripsThroughJson) {
 
 TEST(Pool, ManifestOfAnotherVersionOrWithSharedSeedsIsRefused) {
   core::Json json = to_json(small_manifest());
-  json["pool_version"] = 2;
+  json["pool_version"] = kPoolVersion + 1;
   EXPECT_EQ(error_of([&] { manifest_from_json(json, "m.json"); }),
-            "m.json (pool_version): expected pool version 1, got 2");
+            "m.json (pool_version): expected pool version " + std::to_string(kPoolVersion) + ", got " +
+                std::to_string(kPoolVersion + 1));
   json = to_json(small_manifest());
   json["episodes"][1]["seed"] = 123456789012345ULL;
   EXPECT_THAT(error_of([&] { manifest_from_json(json, "m.json"); }), HasSubstr("appears twice"));
