@@ -285,13 +285,14 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     }
     // The baselines do not re-plan: they bring it where they first saw the hand held out, also
     // when the hand then moves (receive's shift_by); the oracle follows the live palm.
-    if (competence_ != Competence::kOracle) {
-      if (!latched_palm_valid_) latched_palm_ = palm;
+    if (competence_ != Competence::kOracle && !latched_palm_valid_) {
+      latched_palm_ = palm;
       latched_palm_valid_ = true;
-      into = latched_palm_ + (tcp - centre) + Vec3(0, 0, 0.02);
     }
+    const Vec3 aimed = competence_ == Competence::kOracle ? palm : latched_palm_;
+    into = aimed + (tcp - centre) + Vec3(0, 0, 0.02);
     if (!receiver.empty() && palm_turned_in(receiver)) {
-      into.z() = std::max(into.z(), (competence_ == Competence::kOracle ? palm : latched_palm_).z() + kMedialPalmClearance);
+      into.z() = std::max(into.z(), aimed.z() + kMedialPalmClearance);
     }
     // A palm shown with a gesture: the object's centre kCentreOverPalm over the palm's centre
     // (the hand closes on an object within 0.06 m of it), the fingertips at most

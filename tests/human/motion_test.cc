@@ -573,11 +573,6 @@ TEST(MotionTest, BadParametersAreClearErrors) {
   EXPECT_EQ(message(example("offer")), "no error");
 }
 
-}  // namespace
-}  // namespace hribench::human
-
-namespace hribench::human {
-namespace {
 
 TEST(MotionTest, AHangingArmDoesNotSinkWithAForwardLean) {
   // A low, far reach with the right hand leans the trunk; the left arm hangs. Carried down
@@ -598,11 +593,6 @@ TEST(MotionTest, AHangingArmDoesNotSinkWithAForwardLean) {
   EXPECT_GT(lowest_palm, palm_of(lc.clip, 0, Side::kLeft).z() - 0.005);
 }
 
-}  // namespace
-}  // namespace hribench::human
-
-namespace hribench::human {
-namespace {
 
 // Largest wrist speed (m/s, world) of a plan sampled every 5 ms over its nominal duration; the
 // time of it in `at`.
@@ -689,11 +679,6 @@ TEST(MotionTest, ATwoHandedPlankLiftReachesWithoutAJump) {
   EXPECT_LT(max_wrist_speed(plan_motion(k, start, p), at), 1.5) << "at t = " << at << " s";
 }
 
-}  // namespace
-}  // namespace hribench::human
-
-namespace hribench::human {
-namespace {
 
 TEST(MotionTest, RetargetingInTheMiddleOfALeaningReachKeepsThePose) {
   // A far, low reach leans the trunk gradually; the retargeted plan starts from the lean the body
