@@ -242,6 +242,39 @@ bool ExpertPolicy::run_take_retreat(const World& world) {
   return true;
 }
 
+namespace {
+// Offer: the estimated surface gap (m) between the robot's hand housing and wrist (a capsule of
+// kOfferWristRadius along the tool axis `up` from kOfferWristFrom to kOfferWristTo over the
+// TCP) and a person's head (the body model's capsule on the neck-head line, its radius times
+// the body's scale).
+double offer_head_gap(const Vec3& tcp, const Vec3& up, const Vec3& neck, const Vec3& head, double scale) {
+  const Vec3 a = neck + kOfferHeadFrom * (head - neck);
+  const Vec3 b = neck + kOfferHeadTo * (head - neck);
+  double d = 1e9;
+  Vec3 unused;
+  for (int i = 0; i <= 10; ++i) {
+    const double h = kOfferWristFrom + (kOfferWristTo - kOfferWristFrom) * i / 10.0;
+    d = std::min(d, segment_distance(tcp + h * up, a, b, unused));
+  }
+  return d - kOfferWristRadius - kOfferHeadRadius * scale;
+}
+// The number a motion parameter `name` of `act` was sampled to, or nullopt.
+std::optional<double> motion_number(const script::Act& act, const std::string& name) {
+  if (!act.motion) return std::nullopt;
+  for (const auto& param : act.motion->params) {
+    if (param.name == name && param.value.kind == script::ValueTree::Kind::kScalar) {
+      return param.value.scalar.expr.number;
+    }
+  }
+  return std::nullopt;
+}
+// The hand turned from R0 (fingers down) so that its wrist leans `tilt` (rad) toward the
+// horizontal unit direction `lean`.
+Quat offer_leaning(const Quat& R0, const Vec3& lean, double tilt) {
+  return (core::axis_angle(Vec3::UnitZ().cross(lean).normalized(), tilt) * R0).normalized();
+}
+}  // namespace
+
 void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
   const size_t k = index_of(objects_, step.object);
   HRIB_CHECK(k < objects_.size()) << step.object;
@@ -270,6 +303,42 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     }
     gripper_ = 0.0;
     Vec3 into = palm + (tcp - centre) + Vec3(0, 0, 0.02);
+    // The oracle keeps its wrist clear of a head leaning in over the palm (a person reaching far
+    // leans the trunk forward, the face over the hand): the wrist leans away from the head, as
+    // little as keeps kOfferHeadGap at the TCP and at the goal (toward the robot's base first,
+    // then turned up to a quarter turn either way), else as far as clears it most.
+    const auto keep_wrist_from_head = [&] {
+      if (competence_ != Competence::kOracle) return;
+      const double scale = human::Skeleton::FromHeight(episode_->human.height.value()).scale;
+      const Vec3 neck = joint(human::Joint::kNeck);
+      const Vec3 head = joint(human::Joint::kHead);
+      const Vec3 goal = target_.translation;
+      // (R0: the hand as the skill holds it, its axis as at home.)
+      const Vec3 down = home_.rotation * Vec3::UnitZ();
+      const Quat R0 = (Quat::FromTwoVectors(target_.rotation * Vec3::UnitZ(), down) * target_.rotation).normalized();
+      const Vec3 base = -Vec3(goal.x(), goal.y(), 0).normalized();
+      const auto gap_with = [&](const Quat& R) {
+        const Vec3 up = R * Vec3(0, 0, -1);
+        return std::min(offer_head_gap(tcp, up, neck, head, scale), offer_head_gap(goal, up, neck, head, scale));
+      };
+      Quat best = R0;
+      double best_gap = gap_with(R0);
+      double best_tilt = 0;
+      for (double tilt = kOfferTiltStep; best_gap < kOfferHeadGap && tilt <= kOfferMaxTilt + 1e-9;
+           tilt += kOfferTiltStep) {
+        for (const double turn : {0.0, core::kPi / 4, -core::kPi / 4, core::kPi / 2, -core::kPi / 2}) {
+          const Quat R = offer_leaning(R0, core::axis_angle(Vec3::UnitZ(), turn) * base, tilt);
+          const double gap = gap_with(R);
+          if (gap > best_gap + 1e-6) {
+            best = R;
+            best_gap = gap;
+            best_tilt = tilt;
+          }
+          if (best_gap >= kOfferHeadGap) break;
+        }
+      }
+      if (best_tilt > 0 || (target_.rotation * Vec3::UnitZ() - down).norm() > 1e-9) target_.rotation = best;
+    };
     // Until the receiving hand is held out (receive.present): toward a palm the person shows with a gesture
     // (give_me), stopping short of it on the robot's side; otherwise (a hand still reaching
     // out, through where the robot would wait) in front of the robot. Then over the palm and
@@ -281,6 +350,7 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
       target_.translation = palm_shown(side) ? Vec3(into + Vec3(0, 0, kOfferAbove) - kOfferStandoff * toward)
                                              : Vec3(0.40, std::clamp(tcp.y(), -0.2, 0.2), 1.0);
       if (palm_shown(side)) target_.translation = rise_first(tcp, target_.translation);
+      keep_wrist_from_head();
       return;
     }
     // The baselines do not re-plan: they bring it where they first saw the hand held out, also
@@ -342,6 +412,21 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
       target_.translation = Vec3(tcp.x(), tcp.y(), over.z());
     }
     if (palm_shown(side)) target_.translation = rise_first(tcp, target_.translation);
+    // The oracle brings the object into a hand held out without a gesture only once the hand
+    // has been open for the receive act's `open` time (phase 21 from when it opened): the person
+    // closes it no earlier, and an object still coming in when it counts as delivered starts
+    // the let-go before the grasp. Until then it stays kOfferHoverAbove over the palm.
+    if (!palm_shown(side) && !receiver.empty() && competence_ == Competence::kOracle) {
+      if (phase_ == 20 && seen(receiver + ".open")) set_phase(21, world.time);
+      double open = 0;
+      for (const auto& entry : episode_->acts) {
+        if (entry.name == receiver) open = motion_number(entry.value, "open").value_or(0);
+      }
+      if (phase_ == 20 || world.time - phase_start_ < open) {
+        target_.translation.z() = std::max(target_.translation.z(), into.z() + kOfferHoverAbove);
+      }
+    }
+    keep_wrist_from_head();
     // Done once the object is in the palm (not when the act's looser goal distance first holds:
     // the person closes the hand only when the object is inside the palm region), or once the
     // hand closes on it.
@@ -367,14 +452,20 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     return;
   }
   const double elapsed = world.time - phase_start_;
+  // The oracle draws its fingers out of the hand as soon as they are open clear of the object
+  // (the person may pull the hand back at once), up as much as back.
+  const bool oracle = competence_ == Competence::kOracle;
   if (phase_ == 30) {
     gripper_ = 1.0;
     speed_ = kFineSpeed;
-    if (elapsed > kOpenTime) set_phase(31, world.time);
+    const bool clear = oracle && elapsed > kOfferOpenAtLeast &&
+                       world.width > grip_width(objects_[k].kind, objects_[k].half_extents) + kOfferFingersClear;
+    if (elapsed > kOpenTime || clear) set_phase(31, world.time);
   } else {
     gripper_ = 1.0;
     speed_ = kFineSpeed * 2;
-    target_.translation = Vec3(tcp.x() - 0.15, tcp.y(), tcp.z() + 0.05);
+    target_.translation = oracle ? Vec3(tcp + kOfferWithdraw * Vec3(-1, 0, 1).normalized())
+                                 : Vec3(tcp.x() - 0.15, tcp.y(), tcp.z() + 0.05);
     if (elapsed > 1.0) internal_done_[current_] = 1;
   }
 }

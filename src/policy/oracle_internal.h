@@ -46,6 +46,31 @@ inline constexpr double kGapMargin = 0.05;         // m
 inline constexpr double kIntrusionRetreatFactor = 2.5;
 inline constexpr double kHandReach = 0.19;         // m: a hand's extent around the wrist (any bend)
 
+// Offer (C2, I2): the oracle keeps its hand and wrist (a capsule of kOfferWristRadius along
+// the tool axis from kOfferWristFrom to kOfferWristTo over the TCP, m) kOfferHeadGap (m,
+// estimated surface gap) from the head of a person leaning in over the receiving palm (the
+// body model's head capsule: from kOfferHeadFrom to kOfferHeadTo of the neck-head offset past
+// the neck, kOfferHeadRadius times the body's scale), leaning its wrist away by up to
+// kOfferMaxTilt (rad) in steps of kOfferTiltStep.
+inline constexpr double kOfferWristRadius = 0.06;
+inline constexpr double kOfferWristFrom = 0.05;
+inline constexpr double kOfferWristTo = 0.32;
+inline constexpr double kOfferHeadFrom = 0.68;
+inline constexpr double kOfferHeadTo = 1.26;
+inline constexpr double kOfferHeadRadius = 0.095;
+inline constexpr double kOfferHeadGap = 0.05;
+inline constexpr double kOfferMaxTilt = 0.6;
+inline constexpr double kOfferTiltStep = 0.1;
+// Having let go, the oracle withdraws (kOfferWithdraw m, up as much as back toward the robot)
+// once the fingers have opened kOfferFingersClear (m) wider than the object, after at least
+// kOfferOpenAtLeast (s).
+inline constexpr double kOfferWithdraw = 0.15;
+inline constexpr double kOfferFingersClear = 0.016;
+inline constexpr double kOfferOpenAtLeast = 0.1;
+// Into a hand held out without a gesture, the TCP stays this far over its goal until the hand
+// has been open for the receive act's `open` time (m).
+inline constexpr double kOfferHoverAbove = 0.08;
+
 inline bool is_container(const std::string& kind) { return kind == "bin" || kind == "tray" || kind == "box"; }
 
 // Height of the TCP above an object's bottom for a top-down grasp (m), by kind.

@@ -201,5 +201,16 @@ TEST(OracleTrace, DISABLED_Trace) {
   std::printf("%s success %d hcs %.2f\n", describe(o).c_str(), o.metrics.success, o.metrics.hcs);
 }
 
+// Offers (C2, I2): a tall person reaching far leans the face over the receiving palm (C2 1018,
+// a pool candidate with a bottle): the wrist leans away from the head instead of coming down
+// into it; the fingers drawn out of the hand once open, before the person pulls it back (I2);
+// the object brought into a hand held out only once it has been open for its `open` time (C2:
+// the let-go started before the grasp).
+INSTANTIATE_TEST_SUITE_P(Offer, OracleTask,
+                         ::testing::Values(TaskCase{"tasks/C2_handover_r2h.yaml", 1018},
+                                           TaskCase{"tasks/C2_handover_r2h.yaml", 95855424329200},
+                                           TaskCase{"tasks/I2_gesture_delivery.yaml", 124286165515814},
+                                           TaskCase{"tasks/C2_handover_r2h.yaml", 81247427635462}));
+
 }  // namespace
 }  // namespace hribench::eval
