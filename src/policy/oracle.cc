@@ -7,6 +7,7 @@
 #include "model/mjcf.h"
 #include "model/model.h"
 #include "policy/oracle_internal.h"
+#include "sim/distance.h"
 
 namespace hribench::policy {
 
@@ -15,41 +16,6 @@ using namespace oracle_internal;  // NOLINT: the expert's own internals
 namespace {
 
 using Joints = std::array<Vec3, kHumanKeypoints>;
-
-// Closest distance between the segments ab and cd (Ericson, Real-Time Collision Detection 5.1.9),
-// with the closest point on ab.
-double segments_distance(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, Vec3& on_ab,
-                         Vec3& on_cd) {
-  const Vec3 d1 = b - a;
-  const Vec3 d2 = d - c;
-  const Vec3 r = a - c;
-  const double aa = d1.squaredNorm();
-  const double ee = d2.squaredNorm();
-  const double f = d2.dot(r);
-  double s = 0;
-  double t = 0;
-  if (aa <= 1e-12) {
-    t = ee > 1e-12 ? std::clamp(f / ee, 0.0, 1.0) : 0.0;
-  } else if (ee <= 1e-12) {
-    s = std::clamp(-d1.dot(r) / aa, 0.0, 1.0);
-  } else {
-    const double cc = d1.dot(r);
-    const double bb = d1.dot(d2);
-    const double denom = aa * ee - bb * bb;
-    s = denom > 1e-12 ? std::clamp((bb * f - cc * ee) / denom, 0.0, 1.0) : 0.0;
-    t = (bb * s + f) / ee;
-    if (t < 0) {
-      t = 0;
-      s = std::clamp(-cc / aa, 0.0, 1.0);
-    } else if (t > 1) {
-      t = 1;
-      s = std::clamp((bb - cc) / aa, 0.0, 1.0);
-    }
-  }
-  on_ab = a + s * d1;
-  on_cd = c + t * d2;
-  return (on_ab - on_cd).norm();
-}
 
 // The surface separation the oracle estimates between the robot's hand and wrist (capsules
 // about the TCP pose: the hand housing 0.2 m across the fingers, the fingers, the flange and
@@ -85,12 +51,12 @@ double intrusion_gap(const Pose& X_WT, const Joints& joints, Vec3& away) {
   away = Vec3(-1, 0, 0);
   for (const Capsule& r : robot) {
     for (const Capsule& h : body) {
-      Vec3 on_robot;
-      Vec3 on_body;
-      const double d = segments_distance(r.a, r.b, h.a, h.b, on_robot, on_body) - r.radius - h.radius;
+      const sim::ClosestPoints axes = sim::closest_points(sim::Segment{r.a, r.b}, sim::Segment{h.a, h.b});
+      const double d = axes.distance - r.radius - h.radius;
       if (d < gap) {
         gap = d;
-        if ((on_robot - on_body).norm() > 1e-6) away = (on_robot - on_body).normalized();
+        const Vec3 apart = axes.point_a_W - axes.point_b_W;
+        if (apart.norm() > 1e-6) away = apart.normalized();
       }
     }
   }
