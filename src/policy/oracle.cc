@@ -542,6 +542,14 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
         nearest(0.02 * to_go.normalized(), unused) > best + 0.005) {
       return kSeparatingScale;
     }
+    // Recovery: lowering an object onto its target, or descending onto a grasp, straight down
+    // goes on slowly while it brings the robot closer to the person by at most a quarter of its
+    // travel (I5: a person who pointed at the tray stands near it; closer than
+    // kRetreatDistance the robot backs off as above).
+    const bool lowering = (phase_ == 1 || phase_ == 11) && to_go.head<2>().norm() < 0.02 && to_go.z() < -0.005;
+    if (speed_ > 0 && lowering && nearest(0.02 * to_go.normalized(), unused) >= best - 0.005) {
+      return kSeparatingScale;
+    }
     return 0;
   }
   if (lid >= 0 && lid_arm_distance(world, robot, lid) < kLidArmClearance) return 0;

@@ -86,6 +86,28 @@ inline double grip_width(const std::string& kind, const Vec3& half) {
   return 2 * std::min(half.x(), half.y());
 }
 
+// Recovery: a round object knocked over (a bottle or cup whose axis is within 30 deg of
+// horizontal: a person put it down badly) is grasped lying, across its body, the fingers
+// across its axis, at kLyingGraspAlong of its length from its bottom (a bottle's body centre;
+// a cup's middle), and carried with its axis along a container's length.
+inline constexpr double kLyingGraspAlong = 0.43;
+inline bool lying(const std::string& kind, const Pose& X_WO) {
+  return (kind == "bottle" || kind == "cup") && (X_WO.rotation * Vec3::UnitZ()).z() < 0.5;
+}
+// The point on a lying object's axis where it is grasped (world).
+inline Vec3 lying_grasp(const Pose& X_WO, const Vec3& half) {
+  return X_WO * Vec3(0, 0, 2 * kLyingGraspAlong * half.z());
+}
+inline double wrap_half_turn(double a) {  // into [-pi/2, pi/2) modulo pi
+  return a - core::kPi * std::floor((a + core::kPi / 2) / core::kPi);
+}
+// Recovery: the hand housing's half length along the finger axis and its bottom above the TCP
+// (m), and the clearance from it to a neighbouring object below which a cube is grasped on its
+// other pair of faces (when that is clearer).
+inline constexpr double kHousingHalfLength = 0.1;
+inline constexpr double kHousingAboveTcp = 0.044;
+inline constexpr double kHousingClearanceWanted = 0.04;
+
 // Rotation vector of R (axis * angle), angle in [0, pi].
 inline Vec3 rotation_vector(const Quat& q) {
   const Eigen::AngleAxisd aa(q.normalized());

@@ -19,14 +19,44 @@ void ExpertPolicy::run_pick(const World& world, const std::string& object, bool 
   // Oracle: the live pose; baselines: the pose seen when the step began.
   Pose X_WO = world.objects[k];
   if (competence_ != Competence::kOracle && latched_valid_) X_WO.translation = latched_;
-  const Vec3 grasp = X_WO.translation + Vec3(0, 0, grasp_height(g.kind, g.half_extents));
-  // Finger axis across the cube's faces (cylinders: any).
+  // Recovery: a knocked-over bottle or cup is grasped across its lying body.
+  const bool on_side = lying(g.kind, X_WO);
+  const Vec3 grasp = on_side ? lying_grasp(X_WO, g.half_extents)
+                             : Vec3(X_WO.translation + Vec3(0, 0, grasp_height(g.kind, g.half_extents)));
+  // Finger axis across the cube's faces (cylinders: any; lying: across the axis).
   double yaw = 0;
-  if (g.kind == "cube" || g.kind == "plank") {
+  if (on_side) {
+    const Vec3 axis = X_WO.rotation * Vec3::UnitZ();
+    const Vec3 y_home = home_.rotation * Vec3::UnitY();
+    yaw = wrap_half_turn(std::atan2(axis.y(), axis.x()) - std::atan2(y_home.y(), y_home.x()) + core::kPi / 2);
+  } else if (g.kind == "cube" || g.kind == "plank") {
     const Vec3 x_obj = X_WO.rotation * Vec3::UnitX();
     const Vec3 y_home = home_.rotation * Vec3::UnitY();
     yaw = wrap_quarter(std::atan2(x_obj.y(), x_obj.x()) - std::atan2(y_home.y(), y_home.x()) +
                        core::kPi / 2);
+  }
+  // Recovery: of a cube's two finger axes, the one that keeps the hand housing (0.1 m each side
+  // of the TCP along the finger axis, 0.044 m above it) clear of the objects beside it that
+  // stand taller than the housing's bottom (bins' walls, bottles), each a disc of its largest
+  // half extent.
+  if (g.kind == "cube" && !on_side) {
+    const auto clearance = [&](double turn) {
+      const Vec3 across = core::axis_angle(Vec3::UnitZ(), turn) * home_.rotation * Vec3::UnitY();
+      const Vec3 a(grasp.x() - kHousingHalfLength * across.x(), grasp.y() - kHousingHalfLength * across.y(), 0);
+      const Vec3 b(grasp.x() + kHousingHalfLength * across.x(), grasp.y() + kHousingHalfLength * across.y(), 0);
+      double clear = 1e9;
+      for (size_t i = 0; i < objects_.size(); ++i) {
+        const Vec3& h = objects_[i].half_extents;
+        if (i == k || world.objects[i].translation.z() + 2 * h.z() < grasp.z() + kHousingAboveTcp) continue;
+        Vec3 closest;
+        const Vec3 c(world.objects[i].translation.x(), world.objects[i].translation.y(), 0);
+        clear = std::min(clear, segment_distance(c, a, b, closest) - std::max(h.x(), h.y()));
+      }
+      return clear;
+    };
+    const double other = yaw >= 0 ? yaw - core::kPi / 2 : yaw + core::kPi / 2;
+    const double clear = clearance(yaw);
+    if (clear < kHousingClearanceWanted && clearance(other) > clear) yaw = other;
   }
   target_.rotation = (core::axis_angle(Vec3::UnitZ(), yaw) * home_.rotation).normalized();
   // Clear height over every other object.
@@ -61,7 +91,8 @@ void ExpertPolicy::run_pick(const World& world, const std::string& object, bool 
     case 2:  // close on the object, then check that something is between the fingers
       // Pre-shape just wider than the object, then squeeze: the fingers touch it slowly (the
       // grasp, which ends an act, is not in the middle of a fast gripper motion).
-      squeeze(world, grip_width(g.kind, g.half_extents), grasp, kPreshapeTime, kSqueezeRate, kCloseTime);
+      squeeze(world, on_side ? 2 * g.half_extents.x() : grip_width(g.kind, g.half_extents), grasp, kPreshapeTime,
+              kSqueezeRate, kCloseTime);
       break;
     default: {  // lift clear
       gripper_ = 0.0;
@@ -155,7 +186,19 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
       surface = origin.z() + 0.12;
     }
   }
-  const Vec3 offset = tcp - world.objects[k].translation;  // TCP above the object's bottom
+  // Recovery: a lying object's bottom is under the middle of its axis; carried into a container
+  // with its axis along the container's length.
+  const bool on_side = lying(objects_[k].kind, world.objects[k]);
+  const Vec3 bottom = on_side ? Vec3(lying_grasp(world.objects[k], objects_[k].half_extents) -
+                                     Vec3(0, 0, objects_[k].half_extents.x()))
+                              : world.objects[k].translation;
+  if (on_side && container_top > 0 && (phase_ == 10 || phase_ == 11)) {
+    const Vec3 axis = world.objects[k].rotation * Vec3::UnitZ();
+    const Vec3 length = world.objects[index_of(objects_, step.target)].rotation * Vec3::UnitX();
+    const double turn = wrap_half_turn(std::atan2(length.y(), length.x()) - std::atan2(axis.y(), axis.x()));
+    target_.rotation = (core::axis_angle(Vec3::UnitZ(), turn) * world.X_WT.rotation).normalized();
+  }
+  const Vec3 offset = tcp - bottom;  // TCP above the object's bottom
   double top = kTableZ;
   for (size_t i = 0; i < objects_.size(); ++i) {
     if (i != k) top = std::max(top, world.objects[i].translation.z() + 2 * objects_[i].half_extents.z());
@@ -186,6 +229,10 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
         if ((tcp - down).norm() < 2 * kReachedDistance) internal_done_[current_] = 1;
         break;
       }
+      // Recovery: the time-out (an object resting on something short of `down`) does not count
+      // while a separation stop holds the robot more than 3 cm above `down` (no release from
+      // a height).
+      if (ssm_stopped_ && (tcp - down).norm() > 0.03) phase_start_ += world.dt;
       if ((tcp - down).norm() < kReachedDistance / 2 || elapsed > 4.0) set_phase(12, world.time);
       break;
     }

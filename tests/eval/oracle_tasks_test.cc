@@ -77,6 +77,14 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/X1_intrusion_yield.yaml", 1001},
                                            TaskCase{"tasks/X1_intrusion_yield.yaml", 1036},
                                            TaskCase{"tasks/X2_object_moved.yaml", 0},
+                                           // Recovery: X2, the person put the bottle down on its
+                                           // side (grasped lying); I5, lowering onto the tray the
+                                           // person pointed at, beside them; X1 and I1, a cube
+                                           // beside a bottle / a bin's wall (the other face pair).
+                                           TaskCase{"tasks/X2_object_moved.yaml", 60557061292229},
+                                           TaskCase{"tasks/I5_contradiction.yaml", 42607255901691},
+                                           TaskCase{"tasks/X1_intrusion_yield.yaml", 28500056551578},
+                                           TaskCase{"tasks/I1_point_pick.yaml", 35293350474022},
                                            TaskCase{"tasks/X3_someone_else_places.yaml", 0},
                                            TaskCase{"tasks/X4_blocked_target.yaml", 0},
                                            TaskCase{"tasks/I2_gesture_delivery.yaml", 0},

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "human/skeleton.h"
+#include "policy/oracle_internal.h"
 #include "policy/registry.h"
 #include "script/check.h"
 #include "script/sample.h"
@@ -162,6 +163,29 @@ TEST(ExpertPolicy, WaitingForTheCueItBacksAwayFromAHeadLeaningInButNeverTowardIt
   ASSERT_NE(b, nullptr);
   const core::Vec3 to_b = b->X_WO.translation - obs.proprio.X_WT.translation;
   EXPECT_LT(away.dot(to_b.normalized()), 0.0);
+}
+
+// Recovery (X2): a bottle the person put down on its side is recognised as lying and grasped
+// across the middle of its body; one leaning less than 60 deg, or a cube, is not.
+TEST(ExpertPolicy, AKnockedOverBottleIsGraspedAcrossItsLyingBody) {
+  using oracle_internal::lying;
+  core::Pose X_WO = core::Pose::Identity();
+  X_WO.translation = core::Vec3(0.6, 0.2, 0.75);
+  EXPECT_FALSE(lying("bottle", X_WO));
+  X_WO.rotation = core::axis_angle(core::Vec3::UnitY(), 0.9);  // 52 deg
+  EXPECT_FALSE(lying("bottle", X_WO));
+  X_WO.rotation = core::axis_angle(core::Vec3::UnitY(), core::kPi / 2);  // axis along +x
+  EXPECT_TRUE(lying("bottle", X_WO));
+  EXPECT_TRUE(lying("cup", X_WO));
+  EXPECT_FALSE(lying("cube", X_WO));
+  const core::Vec3 grasp = oracle_internal::lying_grasp(X_WO, core::Vec3(0.032, 0.032, 0.105));
+  EXPECT_NEAR(grasp.x(), 0.6 + 2 * oracle_internal::kLyingGraspAlong * 0.105, 1e-12);
+  EXPECT_NEAR(grasp.y(), 0.2, 1e-12);
+  EXPECT_NEAR(grasp.z(), 0.75, 1e-12);
+  // Finger yaws are taken modulo a half turn (the gripper is symmetric).
+  EXPECT_NEAR(oracle_internal::wrap_half_turn(0.75 * core::kPi), -0.25 * core::kPi, 1e-12);
+  EXPECT_NEAR(oracle_internal::wrap_half_turn(-0.5 * core::kPi), -0.5 * core::kPi, 1e-12);
+  EXPECT_NEAR(oracle_internal::wrap_half_turn(0.3), 0.3, 1e-12);
 }
 
 }  // namespace
