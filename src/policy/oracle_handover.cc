@@ -2,11 +2,13 @@
 #include "policy/oracle.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
 #include "core/errors.h"
 #include "policy/oracle_internal.h"
+#include "sim/distance.h"
 
 namespace hribench::policy {
 
@@ -98,6 +100,70 @@ Vec3 rise_first(const Vec3& tcp, const Vec3& goal) {
 }
 }  // namespace
 
+// The horizontal direction along the hand holding an object (wrist to fingertips), or nullopt
+// when the object does not sit beside the palm as a person holds it from the start: upright,
+// its x axis along the hand, its centre kPalmDistance-ish beyond the wrist along it and beside
+// the palm across it (model.cc's palm_hold; the hand then turns only about the vertical). A
+// grasp with the fingers along it keeps the fingers and the hand housing (0.2 m along the
+// finger axis) off the hand beside the object; across it (perpendicular to the wrist-object
+// line, 40 degrees off) the housing's end came down onto the hand.
+static std::optional<Vec3> held_along_hand(const Pose& X_WO, const Vec3& centre, const Vec3& wrist) {
+  Vec3 x_obj = X_WO.rotation * Vec3::UnitX();
+  if ((X_WO.rotation * Vec3::UnitZ()).z() < std::cos(kTakeUprightTilt)) return std::nullopt;
+  x_obj.z() = 0;
+  if (x_obj.norm() < 1e-3) return std::nullopt;
+  x_obj.normalize();
+  Vec3 from_wrist = centre - wrist;
+  from_wrist.z() = 0;
+  const double along = from_wrist.dot(x_obj);
+  const double across = (from_wrist - along * x_obj).norm();
+  if (along < kTakeHandAlong.first || along > kTakeHandAlong.second || across < kTakeHandAcross.first ||
+      across > kTakeHandAcross.second) {
+    return std::nullopt;
+  }
+  return x_obj;
+}
+
+// The surface gap (m) the oracle estimates between a person's head (a ball of head_radius about
+// the head joint, kTakeHeadTall high) and the robot's hand and wrist at TCP pose X_WT: the hand
+// housing, the fingers, link7 on the tool axis and link6 beside it toward the base (0.088 m off
+// the axis, 0.2 m over the TCP: the wrist a person leaning in over the table meets first), the
+// forearm from there up toward the base; `away` the unit direction from the head toward the
+// robot's nearest point.
+static double head_gap(const Pose& X_WT, const Vec3& head, double head_radius, Vec3& away) {
+  struct Capsule {
+    Vec3 a, b;
+    double radius = 0;
+  };
+  const Vec3 tcp = X_WT.translation;
+  const Vec3 up = X_WT.rotation * Vec3(0, 0, -1);
+  const Vec3 across = X_WT.rotation * Vec3(0, 1, 0);
+  Vec3 to_base(-tcp.x(), -tcp.y(), 0);
+  to_base = to_base.norm() > 1e-6 ? Vec3(to_base.normalized()) : Vec3(-1, 0, 0);
+  const Vec3 side = to_base.cross(Vec3::UnitZ());
+  const Vec3 housing = tcp + 0.068 * up;
+  const Vec3 link7 = tcp + 0.21 * up;
+  const Vec3 link6 = link7 + 0.088 * to_base;
+  const std::array<Capsule, 6> robot = {Capsule{housing - 0.07 * across, housing + 0.07 * across, 0.035},
+                                        Capsule{tcp, tcp + 0.05 * up, 0.02},
+                                        Capsule{tcp + 0.11 * up, link7, 0.06},
+                                        Capsule{link7, link6, 0.06},
+                                        Capsule{link6 - 0.06 * side, link6 + 0.06 * side, 0.06},
+                                        Capsule{link6, link6 + 0.2 * to_base + 0.1 * up, 0.06}};
+  double gap = 1e9;
+  away = -to_base;
+  for (const Capsule& r : robot) {
+    const sim::ClosestPoints c =
+        sim::closest_points(sim::Segment{r.a, r.b}, sim::Segment{head, head + Vec3(0, 0, kTakeHeadTall)});
+    if (c.distance - r.radius - head_radius < gap) {
+      gap = c.distance - r.radius - head_radius;
+      const Vec3 apart = c.point_a_W - c.point_b_W;
+      if (apart.norm() > 1e-6) away = apart.normalized();
+    }
+  }
+  return gap;
+}
+
 bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
   if (step.kind == StepKind::kPlace && starts_in_hand(step.object)) return run_take_retreat(world);
   if ((step.kind != StepKind::kApproach && step.kind != StepKind::kPick) || !starts_in_hand(step.object)) {
@@ -126,7 +192,13 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
     yaw = wrap_quarter(std::atan2(from_palm.x(), -from_palm.y()) - std::atan2(y_home.y(), y_home.x()));
     if (g.kind != "cube") yaw = std::atan2(from_palm.x(), -from_palm.y()) - std::atan2(y_home.y(), y_home.x());
   }
-  if (g.kind == "cube") {
+  // (Only where the hand housing comes down near the hand's height: at a bottle's neck it
+  // passes high over the hand, and that turn put the arm's wrist at its reach limit.)
+  const bool housing_low = grasp_height(g.kind, g.half_extents) - g.half_extents.z() < kTakeHousingLow;
+  const auto along_hand = housing_low ? held_along_hand(X_WO, centre, wrist) : std::nullopt;
+  if (along_hand) {
+    yaw = std::atan2(along_hand->y(), along_hand->x()) - std::atan2(y_home.y(), y_home.x());
+  } else if (g.kind == "cube") {
     const Vec3 x_obj = X_WO.rotation * Vec3::UnitX();
     const double faces = std::atan2(x_obj.y(), x_obj.x()) - std::atan2(y_home.y(), y_home.x()) + core::kPi / 2;
     yaw = faces + wrap_quarter(yaw - faces);
@@ -159,7 +231,62 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
   };
   // (Not while the grasp point is farther from the head: coming down to an object held low
   // under a head leaning in moves the housing away from it.)
-  const Vec3 next = step.kind == StepKind::kApproach ? Vec3(above - kTakeStandoff * toward) : grasp;
+  // While the person reaches, the oracle waits short of where the object will be held (the
+  // offer's zone, the object beside the palm at its height), not of the object on its way up
+  // and over: a tall person leaning in to a low zone sweeps the head through the space over it.
+  Vec3 wait = above - kTakeStandoff * toward;
+  for (const auto& entry : episode_->acts) {
+    if (competence_ != Competence::kOracle || offered || entry.value.actor != "human" || !entry.value.motion ||
+        !entry.value.motion->primitive || entry.value.motion->primitive->value() != "offer") {
+      continue;
+    }
+    const auto zone = zone_centre(entry.value);
+    if (!zone || zone->head<2>().norm() < 1e-3) continue;
+    const Vec3 held = *zone + Vec3(0, 0, grasp_height(g.kind, g.half_extents) - g.half_extents.z() + kTakeAbove);
+    wait = held - kTakeStandoff * Vec3(zone->x(), zone->y(), 0).normalized();
+  }
+  const Vec3 next = step.kind == StepKind::kApproach ? wait : grasp;
+  // The oracle keeps its hand and wrist clear of the head of a person leaning in (head_gap):
+  // kTakeHeadGap while it waits for the person to hold the object still (they lean in at up to
+  // 1.7 m/s, tall people with the head over the table beyond their hand), kTakeHeadGapTaking
+  // once it comes in for the take (the head then held still, often within 0.1 m of the wrist
+  // over the object). Closer, it backs off away from the head (never up; toward its base),
+  // fast; otherwise it holds where it is while going on would bring them closer than that,
+  // until the grip closes.
+  if (competence_ == Competence::kOracle && phase_ < 42) {
+    const double head_radius =
+        kTakeHeadRadius * human::Skeleton::FromHeight(episode_->human.height.value()).scale;
+    const double clearance = step.kind == StepKind::kApproach ? kTakeHeadGap : kTakeHeadGapTaking;
+    Vec3 away;
+    const double gap = head_gap(world.X_WT, head, head_radius, away);
+    if (step.kind == StepKind::kApproach && offered) internal_done_[current_] = 1;
+    if (gap < clearance) {
+      if (phase_ == 41) set_phase(40, world.time);
+      Vec3 dir = away;
+      dir.z() = std::min(dir.z(), 0.0);
+      if (tcp.z() < kTableZ + kTakeLowest) dir.z() = 0;
+      const double in = dir.dot(toward);
+      if (in > 0) dir -= in * toward;
+      dir = dir.norm() > 0.1 ? Vec3(dir.normalized()) : Vec3(-toward);
+      gripper_ = 1.0;
+      speed_ = kYieldSpeed;
+      target_.translation = tcp + 0.10 * dir;
+      return true;
+    }
+    const Vec3 going = phase_ == 41 ? grasp : step.kind == StepKind::kApproach ? next : above;
+    if ((going - tcp).norm() > 1e-3) {
+      Pose ahead = world.X_WT;
+      ahead.translation = tcp + 0.02 * (going - tcp).normalized();
+      Vec3 unused;
+      const double gap_ahead = head_gap(ahead, head, head_radius, unused);
+      if (gap_ahead < gap && gap_ahead < clearance + (step.kind == StepKind::kApproach ? kTakeHeadResume : 0.0)) {
+        gripper_ = 1.0;
+        speed_ = 0;
+        target_.translation = tcp;
+        return true;
+      }
+    }
+  }
   if (head_distance(tcp) < kTakeHeadClearance && head_distance(next) < head_distance(tcp) + 0.03 && phase_ < 42) {
     if (phase_ == 41) set_phase(40, world.time);
     gripper_ = 1.0;
@@ -172,22 +299,36 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
       gripper_ = 1.0;
       speed_ = kMaxSpeed;
       if (step.kind == StepKind::kApproach) {
-        target_.translation = above - kTakeStandoff * toward;
+        target_.translation = wait;
         if (offered) internal_done_[current_] = 1;  // the take comes in from here
         break;
       }
       target_.translation = above;
       if ((tcp - above).norm() < 3 * kReachedDistance && world.width > 0.07) set_phase(41, world.time);
       break;
-    case 41:  // down to the grasp point, open
+    case 41: {  // down to the grasp point, open
       gripper_ = 1.0;
       speed_ = kFineSpeed * 1.5;
       target_.translation = grasp;
+      // Not down past the object's top with a finger over it: the fingers open only a few
+      // millimetres wider than a cup, and a finger landing on its rim pushed it down in the
+      // hand (a spring), the grasp point and the gripper after it, onto the hand. Over the top
+      // until centred along the finger axis (the reference overshoots the corner by a
+      // centimetre when the descent begins on the way in).
+      Vec3 finger_axis = world.X_WT.rotation * Vec3::UnitY();
+      finger_axis.z() = 0;
+      const double top = (X_WO * Vec3(0, 0, 2 * g.half_extents.z())).z();
+      const double slack = 0.5 * (world.width - grip_width(g.kind, g.half_extents)) - kTakeAlignMargin;
+      if (finger_axis.norm() > 1e-3 && std::abs((grasp - tcp).dot(finger_axis.normalized())) > std::max(slack, 0.001) &&
+          tcp.z() - kTakeFingertipsBelowTcp > top) {
+        target_.translation.z() = std::max(grasp.z(), top + kTakeFingertipsBelowTcp + kTakeRimClearance);
+      }
       if ((tcp - grasp).norm() < kReachedDistance || (elapsed > 2.0 && (tcp - grasp).norm() < 0.02)) {
         set_phase(42, world.time);
       }
       if (touching) set_phase(43, world.time);  // wedged on the way down: grip there
       break;
+    }
     case 42: {  // pre-shape just wider than the object, then squeeze slowly until both fingers touch
       // (the grasp ends the take act; the gripper must not be moving then, as the place may
       // start only once the person has let go)

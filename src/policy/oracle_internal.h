@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/math.h"
@@ -45,6 +46,36 @@ inline constexpr double kProtectiveGap = 0.31;     // m
 inline constexpr double kGapMargin = 0.05;         // m
 inline constexpr double kIntrusionRetreatFactor = 2.5;
 inline constexpr double kHandReach = 0.19;         // m: a hand's extent around the wrist (any bend)
+
+// Take (C1): an object a person holds out sits beside the palm as held from the start when
+// it leans at most kTakeUprightTilt (rad) and its centre lies, from the wrist, this far along
+// its x axis (the hand's direction) and this far across it (m; the palm distance and the hand's
+// radius plus the object's, for every height and object kind).
+inline constexpr double kTakeUprightTilt = 0.35;
+inline constexpr std::pair<double, double> kTakeHandAlong = {0.03, 0.16};
+inline constexpr std::pair<double, double> kTakeHandAcross = {0.03, 0.12};
+// ... and the fingers close along the hand only for a grasp point less than kTakeHousingLow (m)
+// above the object's centre (the hand's axis): the housing, 0.044 m over the TCP, otherwise
+// clears the top of the hand (radius up to 0.04 m) by 4 cm whatever the finger axis.
+inline constexpr double kTakeHousingLow = 0.04;
+// The fingertips reach this far below the TCP (m); they come down past the top of an object
+// held out only centred along the finger axis within the opening's slack less kTakeAlignMargin,
+// else wait kTakeRimClearance over the top.
+inline constexpr double kTakeFingertipsBelowTcp = 0.01;
+inline constexpr double kTakeAlignMargin = 0.002;
+inline constexpr double kTakeRimClearance = 0.01;
+// The oracle keeps its hand and wrist kTakeHeadGap (m, estimated surface gap) from the head of
+// a person leaning in (a ball of kTakeHeadRadius times the body's scale about the head joint,
+// kTakeHeadTall high) while it waits for the object to be held still, kTakeHeadGapTaking while
+// it comes in to take it (the estimate is within about 0.03 m of the simulator's), backing off
+// below it and going on only where the gap stays above it (waiting: plus kTakeHeadResume);
+// backing off, it goes down no lower than kTakeLowest over the table.
+inline constexpr double kTakeHeadGap = 0.12;
+inline constexpr double kTakeHeadGapTaking = 0.02;
+inline constexpr double kTakeHeadResume = 0.03;
+inline constexpr double kTakeHeadRadius = 0.1;
+inline constexpr double kTakeHeadTall = 0.06;
+inline constexpr double kTakeLowest = 0.25;
 
 // Offer (C2, I2): the oracle keeps its hand and wrist (a capsule of kOfferWristRadius along
 // the tool axis from kOfferWristFrom to kOfferWristTo over the TCP, m) kOfferHeadGap (m,

@@ -95,6 +95,18 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/I2_gesture_delivery.yaml", 3},
                                            TaskCase{"tasks/C1_handover_h2r.yaml", 0},
                                            TaskCase{"tasks/C1_handover_h2r.yaml", 12},
+                                           // C1 (pool/v2 candidates): a cup held out beside a
+                                           // palm turned in (48194801322540) and a cube on a palm
+                                           // up (112358393151959): the fingers close along the
+                                           // hand, over the top until centred (a finger on the
+                                           // rim pushed it down onto the hand); a tall person
+                                           // leaning in head first over a low zone
+                                           // (72039508276316, 157294250004448): the wait low and
+                                           // short of the zone, clear of the head.
+                                           TaskCase{"tasks/C1_handover_h2r.yaml", 48194801322540},
+                                           TaskCase{"tasks/C1_handover_h2r.yaml", 112358393151959},
+                                           TaskCase{"tasks/C1_handover_h2r.yaml", 72039508276316},
+                                           TaskCase{"tasks/C1_handover_h2r.yaml", 157294250004448},
                                            TaskCase{"tasks/C2_handover_r2h.yaml", 1},
                                            TaskCase{"tasks/C2_handover_r2h.yaml", 11},
                                            // a palm turned sideways (medial): offered high in it
