@@ -23,44 +23,28 @@ using Joints = std::array<Vec3, kHumanKeypoints>;
 // anywhere), head and chest, m; `away` is the unit direction from the person's nearest point
 // to the robot's (the motion that increases it).
 double intrusion_gap(const Pose& X_WT, const Joints& joints, Vec3& away) {
-  struct Capsule {
-    Vec3 a, b;
-    double radius = 0;
-  };
   const Vec3 tcp = X_WT.translation;
   const Vec3 up = X_WT.rotation * Vec3(0, 0, -1);
   const Vec3 across = X_WT.rotation * Vec3(0, 1, 0);
   const Vec3 housing = tcp + (model::kTcpOffset - 0.035) * up;
-  const std::array<Capsule, 4> robot = {
-      Capsule{housing - 0.07 * across, housing + 0.07 * across, 0.035}, Capsule{tcp, tcp + 0.05 * up, 0.02},
-      Capsule{tcp + 0.11 * up, tcp + 0.2 * up, 0.06}, Capsule{tcp + 0.2 * up, tcp + 0.32 * up, 0.06}};
+  const std::array<GapCapsule, 4> robot = {
+      GapCapsule{housing - 0.07 * across, housing + 0.07 * across, 0.035}, GapCapsule{tcp, tcp + 0.05 * up, 0.02},
+      GapCapsule{tcp + 0.11 * up, tcp + 0.2 * up, 0.06}, GapCapsule{tcp + 0.2 * up, tcp + 0.32 * up, 0.06}};
   using human::Joint;
   const auto joint = [&](Joint j) { return joints[static_cast<size_t>(human::index(j))]; };
   const Vec3 head = joint(Joint::kHead);
-  const std::array<Capsule, 9> body = {
-      Capsule{joint(Joint::kLeftWrist), joint(Joint::kLeftWrist), kHandReach},
-      Capsule{joint(Joint::kRightWrist), joint(Joint::kRightWrist), kHandReach},
-      Capsule{joint(Joint::kLeftElbow), joint(Joint::kLeftWrist), 0.04},
-      Capsule{joint(Joint::kRightElbow), joint(Joint::kRightWrist), 0.04},
-      Capsule{joint(Joint::kLeftShoulder), joint(Joint::kLeftElbow), 0.05},
-      Capsule{joint(Joint::kRightShoulder), joint(Joint::kRightElbow), 0.05},
-      Capsule{head, head + Vec3(0, 0, 0.06), 0.1},
-      Capsule{joint(Joint::kSpine3), joint(Joint::kNeck), 0.12},
-      Capsule{joint(Joint::kSpine1), joint(Joint::kSpine3), 0.11}};
-  double gap = 1e9;
+  const std::array<GapCapsule, 9> body = {
+      GapCapsule{joint(Joint::kLeftWrist), joint(Joint::kLeftWrist), kHandReach},
+      GapCapsule{joint(Joint::kRightWrist), joint(Joint::kRightWrist), kHandReach},
+      GapCapsule{joint(Joint::kLeftElbow), joint(Joint::kLeftWrist), 0.04},
+      GapCapsule{joint(Joint::kRightElbow), joint(Joint::kRightWrist), 0.04},
+      GapCapsule{joint(Joint::kLeftShoulder), joint(Joint::kLeftElbow), 0.05},
+      GapCapsule{joint(Joint::kRightShoulder), joint(Joint::kRightElbow), 0.05},
+      GapCapsule{head, head + Vec3(0, 0, 0.06), 0.1},
+      GapCapsule{joint(Joint::kSpine3), joint(Joint::kNeck), 0.12},
+      GapCapsule{joint(Joint::kSpine1), joint(Joint::kSpine3), 0.11}};
   away = Vec3(-1, 0, 0);
-  for (const Capsule& r : robot) {
-    for (const Capsule& h : body) {
-      const sim::ClosestPoints axes = sim::closest_points(sim::Segment{r.a, r.b}, sim::Segment{h.a, h.b});
-      const double d = axes.distance - r.radius - h.radius;
-      if (d < gap) {
-        gap = d;
-        const Vec3 apart = axes.point_a_W - axes.point_b_W;
-        if (apart.norm() > 1e-6) away = apart.normalized();
-      }
-    }
-  }
-  return gap;
+  return surface_gap(robot, body, away);
 }
 
 // The largest speed toward a person at which the robot keeps METRICS.md's protective

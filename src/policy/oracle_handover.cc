@@ -131,10 +131,6 @@ static std::optional<Vec3> held_along_hand(const Pose& X_WO, const Vec3& centre,
 // forearm from there up toward the base; `away` the unit direction from the head toward the
 // robot's nearest point.
 static double head_gap(const Pose& X_WT, const Vec3& head, double head_radius, Vec3& away) {
-  struct Capsule {
-    Vec3 a, b;
-    double radius = 0;
-  };
   const Vec3 tcp = X_WT.translation;
   const Vec3 up = X_WT.rotation * Vec3(0, 0, -1);
   const Vec3 across = X_WT.rotation * Vec3(0, 1, 0);
@@ -144,24 +140,15 @@ static double head_gap(const Pose& X_WT, const Vec3& head, double head_radius, V
   const Vec3 housing = tcp + 0.068 * up;
   const Vec3 link7 = tcp + 0.21 * up;
   const Vec3 link6 = link7 + 0.088 * to_base;
-  const std::array<Capsule, 6> robot = {Capsule{housing - 0.07 * across, housing + 0.07 * across, 0.035},
-                                        Capsule{tcp, tcp + 0.05 * up, 0.02},
-                                        Capsule{tcp + 0.11 * up, link7, 0.06},
-                                        Capsule{link7, link6, 0.06},
-                                        Capsule{link6 - 0.06 * side, link6 + 0.06 * side, 0.06},
-                                        Capsule{link6, link6 + 0.2 * to_base + 0.1 * up, 0.06}};
-  double gap = 1e9;
+  const std::array<GapCapsule, 6> robot = {GapCapsule{housing - 0.07 * across, housing + 0.07 * across, 0.035},
+                                           GapCapsule{tcp, tcp + 0.05 * up, 0.02},
+                                           GapCapsule{tcp + 0.11 * up, link7, 0.06},
+                                           GapCapsule{link7, link6, 0.06},
+                                           GapCapsule{link6 - 0.06 * side, link6 + 0.06 * side, 0.06},
+                                           GapCapsule{link6, link6 + 0.2 * to_base + 0.1 * up, 0.06}};
   away = -to_base;
-  for (const Capsule& r : robot) {
-    const sim::ClosestPoints c =
-        sim::closest_points(sim::Segment{r.a, r.b}, sim::Segment{head, head + Vec3(0, 0, kTakeHeadTall)});
-    if (c.distance - r.radius - head_radius < gap) {
-      gap = c.distance - r.radius - head_radius;
-      const Vec3 apart = c.point_a_W - c.point_b_W;
-      if (apart.norm() > 1e-6) away = apart.normalized();
-    }
-  }
-  return gap;
+  const std::array<GapCapsule, 1> head_ball = {GapCapsule{head, head + Vec3(0, 0, kTakeHeadTall), head_radius}};
+  return surface_gap(robot, head_ball, away);
 }
 
 bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {

@@ -14,6 +14,7 @@
 #include "human/skeleton.h"
 #include "model/model.h"
 #include "policy/oracle.h"
+#include "sim/distance.h"
 
 namespace hribench::policy::oracle_internal {
 
@@ -170,8 +171,34 @@ inline double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b, Vec3
   return (p - closest).norm();
 }
 
+// A capsule of the oracle's own clearance estimates (a robot link, a body part): the points
+// within `radius` of the axis a-b, m.
+struct GapCapsule {
+  Vec3 a, b;
+  double radius = 0;
+};
 
-// Index of an object by name, or npos.
+// The smallest surface gap between any capsule of `robot` and any of `body` (axis distance
+// minus both radii; negative when they overlap), m. `away` becomes the unit direction from the
+// body's nearest point to the robot's (the motion that increases the gap); it keeps its value
+// where the axes touch.
+template <size_t R, size_t B>
+double surface_gap(const std::array<GapCapsule, R>& robot, const std::array<GapCapsule, B>& body, Vec3& away) {
+  double gap = 1e9;
+  for (const GapCapsule& r : robot) {
+    for (const GapCapsule& h : body) {
+      const sim::ClosestPoints axes = sim::closest_points(sim::Segment{r.a, r.b}, sim::Segment{h.a, h.b});
+      const double d = axes.distance - r.radius - h.radius;
+      if (d < gap) {
+        gap = d;
+        const Vec3 apart = axes.point_a_W - axes.point_b_W;
+        if (apart.norm() > 1e-6) away = apart.normalized();
+      }
+    }
+  }
+  return gap;
+}
+
 
 // Index of an object by name in `objects` (anything with .name), or npos.
 template <typename Objects>
