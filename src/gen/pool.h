@@ -26,8 +26,10 @@
 namespace hribench::gen {
 
 // Any change to the pipeline that alters the pool must bump this. 1: pool/v1 (git fae9ab2-
-// 47ceb8a); 2: C2's moving receiving hand and the oracle's X1, I2, C2 and C4 fixes (pool/v2).
-inline constexpr int kPoolVersion = 2;
+// 47ceb8a); 2: C2's moving receiving hand and the oracle's X1, I2, C2 and C4 fixes (pool/v2,
+// git f674cb8-517d527); 3: the oracle's head clearance in handovers, C1's take, X2's lying
+// bottles, I5's lowering near a person and the cube's grasp faces (pool/v3).
+inline constexpr int kPoolVersion = 3;
 
 enum class Split { kAdapt, kEval, kTest };
 std::string_view to_string(Split split);  // "adapt" | "eval" | "test"
