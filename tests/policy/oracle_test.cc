@@ -188,5 +188,25 @@ TEST(ExpertPolicy, AKnockedOverBottleIsGraspedAcrossItsLyingBody) {
   EXPECT_NEAR(oracle_internal::wrap_half_turn(0.3), 0.3, 1e-12);
 }
 
+// The oracle's clearance estimate: the smallest axis distance minus both radii over every pair,
+// with `away` from the body's nearest point toward the robot's; `away` is kept where the axes
+// touch.
+TEST(ExpertPolicy, SurfaceGapIsTheNearestPairsAxisDistanceLessBothRadii) {
+  using core::Vec3;
+  using oracle_internal::GapCapsule;
+  const std::array<GapCapsule, 2> robot = {GapCapsule{Vec3(0, 0, 1.0), Vec3(0, 0, 1.2), 0.05},
+                                           GapCapsule{Vec3(0, 0, 2.0), Vec3(0, 0, 2.2), 0.05}};
+  const std::array<GapCapsule, 2> body = {GapCapsule{Vec3(0.5, -1, 1.1), Vec3(0.5, 1, 1.1), 0.1},
+                                          GapCapsule{Vec3(3, 0, 0), Vec3(3, 0, 0), 0.2}};
+  Vec3 away(0, 0, 1);
+  EXPECT_NEAR(oracle_internal::surface_gap(robot, body, away), 0.5 - 0.05 - 0.1, 1e-12);
+  EXPECT_NEAR((away - Vec3(-1, 0, 0)).norm(), 0, 1e-12);
+  // Crossing axes: overlapping (negative gap), the direction kept.
+  const std::array<GapCapsule, 1> crossing = {GapCapsule{Vec3(-1, 0, 1.1), Vec3(1, 0, 1.1), 0.1}};
+  away = Vec3(0, 1, 0);
+  EXPECT_NEAR(oracle_internal::surface_gap(robot, crossing, away), -0.15, 1e-12);
+  EXPECT_NEAR((away - Vec3(0, 1, 0)).norm(), 0, 1e-12);
+}
+
 }  // namespace
 }  // namespace hribench::policy
