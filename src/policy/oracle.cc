@@ -107,6 +107,7 @@ void ExpertPolicy::reset(const EpisodeInfo& info) {
                       std::string(to_string(competence_)) + ": needs the privileged episode");
   }
   episode_ = info.episode;
+  body_ = human::Skeleton::FromHeight(episode_->human.height.value());
   control_dt_ = info.control_dt;
   try {
     plan_ = make_plan(*episode_, competence_);

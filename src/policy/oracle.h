@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "human/skeleton.h"
 #include "policy/oracle_plan.h"
 #include "policy/policy.h"
 
@@ -155,6 +156,7 @@ class ExpertPolicy : public Policy {
 
   Competence competence_;
   std::shared_ptr<const script::EpisodeSpec> episode_;
+  human::Skeleton body_;                 // the person's skeleton (the episode's height)
   std::vector<PlanStep> plan_;
   std::vector<ObjectGeometry> objects_;
   std::vector<std::string> events_;      // names of events seen (kinds act_*, phase, cue)

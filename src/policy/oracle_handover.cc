@@ -241,8 +241,7 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
   // fast; otherwise it holds where it is while going on would bring them closer than that,
   // until the grip closes.
   if (competence_ == Competence::kOracle && phase_ < 42) {
-    const double head_radius =
-        kTakeHeadRadius * human::Skeleton::FromHeight(episode_->human.height.value()).scale;
+    const double head_radius = kTakeHeadRadius * body_.scale;
     const double clearance = step.kind == StepKind::kApproach ? kTakeHeadGap : kTakeHeadGapTaking;
     Vec3 away;
     const double gap = head_gap(world.X_WT, head, head_radius, away);
@@ -437,7 +436,6 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     // then turned up to a quarter turn either way), else as far as clears it most.
     const auto keep_wrist_from_head = [&] {
       if (competence_ != Competence::kOracle) return;
-      const double scale = human::Skeleton::FromHeight(episode_->human.height.value()).scale;
       const Vec3 neck = joint(human::Joint::kNeck);
       const Vec3 head = joint(human::Joint::kHead);
       const Vec3 goal = target_.translation;
@@ -447,7 +445,7 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
       const Vec3 base = -Vec3(goal.x(), goal.y(), 0).normalized();
       const auto gap_with = [&](const Quat& R) {
         const Vec3 up = R * Vec3(0, 0, -1);
-        return std::min(offer_head_gap(tcp, up, neck, head, scale), offer_head_gap(goal, up, neck, head, scale));
+        return std::min(offer_head_gap(tcp, up, neck, head, body_.scale), offer_head_gap(goal, up, neck, head, body_.scale));
       };
       Quat best = R0;
       double best_gap = gap_with(R0);
@@ -500,20 +498,19 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     // whose friction held them shut when they opened to let go, until the person pulled.)
     bool into_shown_palm = false;
     if (palm_shown(side) && competence_ == Competence::kOracle) {
-      const human::Skeleton body = human::Skeleton::FromHeight(episode_->human.height.value());
       const Vec3 wrist = joint(side == 0 ? human::Joint::kLeftWrist : human::Joint::kRightWrist);
       auto centre_of_palm =
-          shown_palm(wrist, joint(side == 0 ? human::Joint::kLeftShoulder : human::Joint::kRightShoulder), body.palm_distance);
+          shown_palm(wrist, joint(side == 0 ? human::Joint::kLeftShoulder : human::Joint::kRightShoulder), body_.palm_distance);
       // (The receive act's zone, where the person brings the palm, once the wrist is there.)
       for (const auto& entry : episode_->acts) {
         if (entry.name != receiver) continue;
         const auto zone = zone_centre(entry.value);
-        if (zone && (*zone - wrist).norm() < body.palm_distance + 0.03) centre_of_palm = zone;
+        if (zone && (*zone - wrist).norm() < body_.palm_distance + 0.03) centre_of_palm = zone;
       }
       if (centre_of_palm) {
         into_shown_palm = true;
         into = *centre_of_palm + Vec3(0, 0, kCentreOverPalm) + (tcp - centre);
-        into.z() = std::max(into.z(), centre_of_palm->z() + kHandRadius * body.scale + kFingertipsBelowTcp -
+        into.z() = std::max(into.z(), centre_of_palm->z() + kHandRadius * body_.scale + kFingertipsBelowTcp -
                                           kFingertipsIntoHand);
         const Vec3 bottom = into - (tcp - world.objects[k].translation);
         for (size_t i = 0; i < objects_.size(); ++i) {
