@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli/command.h"
+#include "core/paths.h"
 #include "script/check.h"
 #include "script/sample.h"
 
@@ -20,7 +21,8 @@ namespace {
 int run_check(const std::vector<std::string>& files, bool quiet, const std::optional<uint64_t>& seed) {
   size_t total = 0;
   size_t bad_files = 0;
-  for (const std::string& file : files) {
+  for (const std::string& name : files) {
+    const std::string file = core::resolve_data_path(name).string();
     const std::vector<script::Problem> problems = script::check(file);
     for (const script::Problem& p : problems) std::printf("%s\n", p.text().c_str());
     total += problems.size();

@@ -26,6 +26,7 @@
 
 #include "cli/command.h"
 #include "core/errors.h"
+#include "core/paths.h"
 #include "eval/metrics.h"
 #include "eval/parallel.h"
 #include "eval/report.h"
@@ -196,7 +197,7 @@ int run_eval(const EvalOptions& o) {
     if (o.split != "eval") throw core::InputError::Message("--split", "needs --pool (a pool's split)");
     const std::vector<std::string> task_files = gen::resolve_task_scripts(o.tasks);
     for (const std::string& file : task_files) {
-      const script::Scenario scenario = script::load_scenario(file);
+      const script::Scenario scenario = script::load_scenario(core::resolve_data_path(file).string());
       by_task.emplace_back();
       for (int i = 0; i < o.episodes; ++i) {
         by_task.back().push_back(script::sample(scenario, o.seed + static_cast<uint64_t>(i)));

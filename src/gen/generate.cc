@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "core/paths.h"
 #include "policy/registry.h"
 #include "script/check.h"
 #include "script/sample.h"
@@ -87,6 +88,13 @@ std::vector<CandidateRecord> prepare_out(const GenerateOptions& o, const core::J
   const fs::path dir = o.out;
   const fs::path options_file = dir / "options.json";
   const fs::path lines_file = dir / "candidates.jsonl";
+  if (fs::exists(dir) && !fs::is_directory(dir)) {
+    throw core::InputError("--out", "a folder for the pool", "'" + o.out + "', a file");
+  }
+  if (fs::exists(dir / "episodes.jsonl") || fs::exists(dir / "results.json")) {
+    throw core::InputError::Message(
+        o.out, "holds an evaluation run (episodes.jsonl / results.json), not a pool; choose another --out");
+  }
   if (fs::exists(dir / "manifest.json")) {
     throw core::InputError::Message(o.out, "already holds a pool (manifest.json); choose another --out");
   }
@@ -251,7 +259,7 @@ GenerationReport generate(const GenerateOptions& o) {
   std::vector<script::Scenario> scenarios;
   std::vector<std::string> names;
   for (const std::string& file : o.scripts) {
-    scenarios.push_back(script::load_scenario(file));
+    scenarios.push_back(script::load_scenario(core::resolve_data_path(file).string()));
     names.push_back(scenarios.back().task);
   }
   for (size_t i = 0; i < names.size(); ++i) {

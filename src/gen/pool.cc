@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "core/errors.h"
+#include "core/paths.h"
 #include "core/rng.h"
 #include "script/check.h"
 #include "script/sample.h"
@@ -120,46 +121,69 @@ Manifest manifest_from_json(const core::Json& json, std::string_view source) {
 }
 
 Manifest read_manifest(const std::string& dir) {
-  const fs::path path = fs::path(dir) / "manifest.json";
+  const fs::path path = core::resolve_data_path(fs::path(dir) / "manifest.json");
   if (!fs::is_regular_file(path)) {
     throw core::InputError::Message(dir, "holds no pool (no manifest.json)");
   }
   return manifest_from_json(core::read_json_file(path.string()), path.string());
 }
 
-std::vector<std::string> resolve_task_scripts(const std::string& list) {
-  const fs::path dir = "tasks";
-  std::vector<std::string> all;
-  if (fs::is_directory(dir)) {
-    for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
-      if (entry.path().extension() == ".yaml") all.push_back(entry.path().string());
-    }
+std::vector<TaskFile> task_catalogue() {
+  const fs::path dir = core::data_root() / "tasks";
+  std::vector<TaskFile> tasks;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return tasks;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() != ".yaml") continue;
+    const std::string stem = entry.path().stem().string();
+    const size_t cut = stem.find('_');
+    TaskFile task;
+    task.id = cut == std::string::npos ? stem : stem.substr(0, cut);
+    task.name = cut == std::string::npos ? stem : stem.substr(cut + 1);
+    task.script = (fs::path("tasks") / entry.path().filename()).string();
+    tasks.push_back(std::move(task));
   }
-  std::sort(all.begin(), all.end());
+  std::sort(tasks.begin(), tasks.end(),
+            [](const TaskFile& a, const TaskFile& b) { return a.script < b.script; });
+  return tasks;
+}
+
+std::string task_list_text() {
+  std::string text;
+  for (const TaskFile& task : task_catalogue()) {
+    text += (text.empty() ? "" : ", ") + task.id + " " + task.name;
+  }
+  return text;
+}
+
+std::vector<std::string> resolve_task_scripts(const std::string& list) {
+  const std::vector<TaskFile> all = task_catalogue();
+  const auto expected = [&] {
+    return all.empty() ? "a task script file (no tasks/ folder under the data root " +
+                             core::data_root().string() + "; set --root or HRIBENCH_ROOT)"
+                       : "a task id or name (" + task_list_text() + "), a script file or all";
+  };
   std::vector<std::string> paths;
   std::stringstream stream(list);
   std::string name;
   while (std::getline(stream, name, ',')) {
     if (name.empty()) continue;
     if (name == "all") {
-      if (all.empty()) throw core::InputError::Message("--tasks", "no tasks/*.yaml found");
-      paths.insert(paths.end(), all.begin(), all.end());
+      if (all.empty()) throw core::InputError("--tasks", expected(), "'all'");
+      for (const TaskFile& task : all) paths.push_back(task.script);
       continue;
     }
-    if (fs::is_regular_file(name)) {
-      paths.push_back(name);
-      continue;
-    }
-    const auto found = std::find_if(all.begin(), all.end(), [&](const std::string& path) {
-      const std::string stem = fs::path(path).stem().string();
-      const std::string suffix = "_" + name;
-      return stem == name || stem.rfind(name + "_", 0) == 0 ||
-             (stem.size() > suffix.size() && stem.compare(stem.size() - suffix.size(), suffix.size(), suffix) == 0);
+    const auto found = std::find_if(all.begin(), all.end(), [&](const TaskFile& task) {
+      return name == task.id || name == task.name || name == task.id + "_" + task.name ||
+             fs::path(name).lexically_normal() == fs::path(task.script);
     });
-    if (found == all.end()) {
-      throw core::InputError("--tasks", "a task name or file of tasks/ (or all)", "'" + name + "'");
+    if (found != all.end()) {
+      paths.push_back(found->script);
+    } else if (fs::is_regular_file(name)) {
+      paths.push_back(name);
+    } else {
+      throw core::InputError("--tasks", expected(), "'" + name + "'");
     }
-    paths.push_back(*found);
   }
   if (paths.empty()) throw core::InputError("--tasks", "a task list", "'" + list + "'");
   return paths;
@@ -191,7 +215,9 @@ std::vector<script::EpisodeSpec> pool_episodes(const Manifest& manifest, Split s
   for (const PoolEntry& e : manifest.episodes) {
     if (e.split != split || !wanted(e)) continue;
     auto it = scenarios.find(e.script);
-    if (it == scenarios.end()) it = scenarios.emplace(e.script, script::load_scenario(e.script)).first;
+    if (it == scenarios.end()) {
+      it = scenarios.emplace(e.script, script::load_scenario(core::resolve_data_path(e.script).string())).first;
+    }
     script::EpisodeSpec spec = script::sample(it->second, e.seed);
     const std::string hash = script::spec_hash(spec);
     if (hash != e.hash) {

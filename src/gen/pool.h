@@ -75,17 +75,33 @@ core::Json to_json(const Manifest& manifest);
 // Throws core::InputError (where = "SOURCE (key.path)") for a malformed manifest, a pool
 // version this build does not know, or two episodes sharing a seed within a task.
 Manifest manifest_from_json(const core::Json& json, std::string_view source);
-// DIR/manifest.json; throws core::InputError when missing or malformed.
+// DIR/manifest.json (DIR relative to the working directory or else to the data root); throws
+// core::InputError when missing or malformed.
 Manifest read_manifest(const std::string& dir);
 
-// Task names (I4, stop_go or I4_stop_go: a script's stem, its prefix or its name), script files, or `all` (every
-// tasks/*.yaml, sorted), comma-separated -> script paths. Throws core::InputError (where =
-// "--tasks") for a name that matches nothing or an empty list.
+// A task of the benchmark, from its script's file name tasks/ID_NAME.yaml: its id (e.g. "I1",
+// as docs/tasks.md names tasks), its name (the script's `task`, e.g. "point_pick") and its
+// script path as recorded in manifests and options ("tasks/I1_point_pick.yaml", relative to the
+// data root of core/paths.h, whatever the working directory).
+struct TaskFile {
+  std::string id;
+  std::string name;
+  std::string script;
+};
+// The scripts of data_root()/tasks, sorted by file name.
+std::vector<TaskFile> task_catalogue();
+// "I1 point_pick, I2 gesture_delivery, ..." (for messages and help).
+std::string task_list_text();
+
+// Task ids (I4), names (stop_go), stems (I4_stop_go), script files, or `all` (every task of
+// task_catalogue()), comma-separated -> script paths (catalogue tasks as TaskFile::script, files
+// as given). Throws core::InputError (where = "--tasks") for a name that matches nothing (the
+// message lists every id and name) or an empty list.
 std::vector<std::string> resolve_task_scripts(const std::string& list);
 
 // The episodes of `split` (all tasks, or those matching one of `tasks` by task name, script
 // file, or script stem, its prefix or suffix), re-sampled from their scripts (paths relative to
-// the working directory) and checked against the manifest hashes. Throws core::InputError
+// the working directory or else to the data root, core::resolve_data_path) and checked against the manifest hashes. Throws core::InputError
 // (where "--tasks") for a name that matches no task of the pool, when a script is missing or
 // fails check, or when an episode's hash differs ("the pool was made by other scripts").
 std::vector<script::EpisodeSpec> pool_episodes(const Manifest& manifest, Split split,

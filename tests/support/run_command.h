@@ -15,9 +15,10 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-// Runs `args` (already shell-quoted) as arguments of the hribench binary.
-inline CommandResult run_hribench(const std::string& args) {
-  const std::string command = std::string(HRIBENCH_BINARY) + " " + args + " 2>&1";
+// Runs `prefix` (shell words before the command, e.g. "cd DIR && " or "VAR=1 ") and then the
+// hribench binary with `args` (already shell-quoted).
+inline CommandResult run_hribench_with(const std::string& prefix, const std::string& args) {
+  const std::string command = prefix + std::string(HRIBENCH_BINARY) + " " + args + " 2>&1";
   CommandResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return result;
@@ -27,6 +28,14 @@ inline CommandResult run_hribench(const std::string& args) {
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+// Runs `args` (already shell-quoted) as arguments of the hribench binary.
+inline CommandResult run_hribench(const std::string& args) { return run_hribench_with("", args); }
+
+// As run_hribench, from the folder `dir` (e.g. one outside the repository).
+inline CommandResult run_hribench_in(const std::string& dir, const std::string& args) {
+  return run_hribench_with("cd '" + dir + "' && ", args);
 }
 
 // Number of lines in `text` (a trailing newline does not start a new line).
