@@ -1,22 +1,79 @@
-// `hribench report DIR...`: one headline table comparing the runs in the given folders (or
-// results.json files), each labelled by its path.
+// `hribench report DIR... [--force]`: one headline table comparing the runs in the given folders
+// (or results.json files), each labelled by its path. Runs that cannot be compared without a
+// word — another horizon, other seeds, pool, split, latency, HRIBench version or tasks — are
+// refused with the first difference named, or with --force compared with every difference
+// printed as a warning. A policy in two runs (two checkpoints behind one name, say) is a warning:
+// its rows are told apart by the run's path.
 
+#include <array>
 #include <cstdio>
+#include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "cli/command.h"
+#include "core/errors.h"
 #include "eval/report.h"
 
 namespace hribench::cli {
 namespace {
 
-int run_report(const std::vector<std::string>& dirs) {
+// The run options that change what a number means; a run without one of them ran with the default.
+constexpr std::array<const char*, 8> kComparedOptions = {"horizon", "episodes", "seed",  "pool",
+                                                         "pool_version", "split", "latency", "tasks"};
+
+struct Comparison {
+  std::vector<std::string> differences;  // the runs measured different things
+  std::vector<std::string> notes;        // worth a word, not a refusal
+};
+
+Comparison compare_runs(const std::vector<std::pair<std::string, eval::RunResults>>& runs) {
+  Comparison c;
+  if (runs.empty()) return c;
+  const auto& [first_name, first] = runs.front();
+  const auto option = [](const eval::RunResults& run, const char* key) {
+    return run.info.options.contains(key) ? run.info.options.at(key).dump() : std::string("(not set)");
+  };
+  std::map<std::string, std::string> policy_run;  // policy -> the run it was first seen in
+  for (const auto& [name, run] : runs) {
+    for (const char* key : kComparedOptions) {
+      if (option(run, key) != option(first, key)) {
+        c.differences.push_back(fmt::format("{} has {} {}, {} has {}", name, key, option(run, key), first_name,
+                                       option(first, key)));
+      }
+    }
+    if (run.info.hribench_version != first.info.hribench_version) {
+      c.differences.push_back(fmt::format("{} was made by HRIBench {}, {} by {}", name, run.info.hribench_version,
+                                     first_name, first.info.hribench_version));
+    }
+    std::set<std::string> policies;
+    for (const eval::EpisodeResult& e : run.episodes) policies.insert(e.policy);
+    for (const std::string& policy : policies) {
+      const auto [it, fresh] = policy_run.emplace(policy, name);
+      if (!fresh) c.notes.push_back(fmt::format("policy {} is in {} and in {}", policy, it->second, name));
+    }
+  }
+  return c;
+}
+
+int run_report(const std::vector<std::string>& dirs, bool force) {
   std::vector<std::pair<std::string, eval::RunResults>> runs;
   runs.reserve(dirs.size());
   for (const std::string& dir : dirs) runs.emplace_back(dir, eval::load_run(dir));
+  Comparison c = compare_runs(runs);
+  if (!c.differences.empty() && !force) {
+    throw core::InputError::Message(
+        "report", "the runs differ: " + c.differences.front() +
+                      (c.differences.size() > 1 ? fmt::format(" (and {} more)", c.differences.size() - 1) : "") +
+                      "; use --force to compare them anyway");
+  }
+  c.notes.insert(c.notes.begin(), c.differences.begin(), c.differences.end());
+  for (const std::string& note : c.notes) std::fprintf(stderr, "hribench report: warning: %s\n", note.c_str());
   std::fputs(eval::compare_markdown(runs).c_str(), stdout);
   return 0;
 }
@@ -24,9 +81,13 @@ int run_report(const std::vector<std::string>& dirs) {
 HRIB_REGISTER_COMMAND("report", "Compare the results of runs (folders written by eval)",
                       [](CLI::App& app) -> std::function<int()> {
                         auto dirs = std::make_shared<std::vector<std::string>>();
+                        auto force = std::make_shared<bool>(false);
                         app.add_option("dirs", *dirs, "Run folders or results.json files")
                             ->required();
-                        return [dirs] { return run_report(*dirs); };
+                        app.add_flag("--force", *force,
+                                     "Compare runs that differ in horizon, seeds, pool, split, latency, "
+                                     "version or tasks (each difference is a warning)");
+                        return [dirs, force] { return run_report(*dirs, *force); };
                       });
 
 }  // namespace

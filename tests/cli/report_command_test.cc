@@ -1,0 +1,58 @@
+// Tests of `hribench report`: runs that measured different things (another horizon here) are
+// refused with the difference named, compared with --force and a warning; a policy in two runs
+// is a warning.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "support/run_command.h"
+#include "support/test_files.h"
+
+namespace hribench::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using ::hribench::testing::count_lines;
+using ::hribench::testing::run_hribench;
+
+class ReportComparisonTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = ::hribench::testing::temp_dir("report", "runs");
+    const std::string common = " --tasks I1 --policy noop --episodes 1 --out " + dir_;
+    ASSERT_EQ(run_hribench("eval --horizon 0.5" + common + "/short").exit_code, 0);
+    ASSERT_EQ(run_hribench("eval --horizon 1" + common + "/long").exit_code, 0);
+    ASSERT_EQ(run_hribench("eval --horizon 0.5" + common + "/again").exit_code, 0);
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static inline std::string dir_;
+};
+
+TEST_F(ReportComparisonTest, RefusesRunsOfAnotherHorizon) {
+  const auto r = run_hribench("report " + dir_ + "/short " + dir_ + "/long");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("report: the runs differ: " + dir_ + "/long has horizon 1.0, " + dir_ +
+                          "/short has 0.5; use --force to compare them anyway"),
+            std::string::npos) << r.output;
+}
+
+TEST_F(ReportComparisonTest, ForceComparesWithAWarning) {
+  const auto r = run_hribench("report --force " + dir_ + "/short " + dir_ + "/long");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("hribench report: warning: " + dir_ + "/long has horizon 1.0"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("| Run |"), std::string::npos) << r.output;
+}
+
+TEST_F(ReportComparisonTest, SamePolicyInTwoRunsIsAWarning) {
+  const auto r = run_hribench("report " + dir_ + "/short " + dir_ + "/again");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: policy noop is in " + dir_ + "/short and in " + dir_ + "/again"),
+            std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace hribench::cli
