@@ -103,6 +103,7 @@ PolicyRef parse_policy_ref(std::string_view text) {
 }
 
 std::string take_option(PolicyRef& ref, const std::string& key, const std::string& fallback) {
+  ref.known.push_back(key);
   const auto it = ref.options.find(key);
   if (it == ref.options.end()) return fallback;
   std::string value = it->second;
@@ -111,6 +112,7 @@ std::string take_option(PolicyRef& ref, const std::string& key, const std::strin
 }
 
 double take_option(PolicyRef& ref, const std::string& key, double fallback) {
+  ref.known.push_back(key);
   const auto it = ref.options.find(key);
   if (it == ref.options.end()) return fallback;
   const std::string value = it->second;
@@ -125,6 +127,7 @@ double take_option(PolicyRef& ref, const std::string& key, double fallback) {
 
 uint64_t take_integer_option(PolicyRef& ref, const std::string& key, uint64_t fallback,
                              uint64_t min, uint64_t max) {
+  ref.known.push_back(key);
   const auto it = ref.options.find(key);
   if (it == ref.options.end()) return fallback;
   const std::string value = it->second;
@@ -144,7 +147,9 @@ uint64_t take_integer_option(PolicyRef& ref, const std::string& key, uint64_t fa
 
 void reject_unknown_options(const PolicyRef& ref) {
   if (ref.options.empty()) return;
-  throw core::InputError("policy " + ref.name, "a known option",
+  std::string known;
+  for (const std::string& key : ref.known) known += (known.empty() ? "" : ", ") + key;
+  throw core::InputError("policy " + ref.name, known.empty() ? "no options" : "one of the options " + known,
                          "'" + ref.options.begin()->first + "'");
 }
 

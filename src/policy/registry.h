@@ -23,7 +23,8 @@ namespace hribench::policy {
 struct PolicyRef {
   std::string name;                           // "noop", "random", "openpi", ...
   std::string address;                        // after "://" (empty for plain names)
-  std::map<std::string, std::string> options; // from "?k=v&k=v"
+  std::map<std::string, std::string> options; // from "?k=v&k=v"; take_* erases what it reads
+  std::vector<std::string> known;             // every key take_* was asked for (for messages)
 };
 
 // Throws core::InputError (where = "policy") for an empty name or a malformed option.
@@ -37,7 +38,8 @@ double take_option(PolicyRef& ref, const std::string& key, double fallback);  //
 // exponent, hex, nan or inf); anything else throws core::InputError naming the range.
 uint64_t take_integer_option(PolicyRef& ref, const std::string& key, uint64_t fallback,
                              uint64_t min, uint64_t max);
-// Throws core::InputError naming the first option left in `ref` (an unknown option).
+// Throws core::InputError naming the first option left in `ref` (an unknown option) and the
+// options the policy knows (those its factory asked for).
 void reject_unknown_options(const PolicyRef& ref);
 
 using PolicyFactory = std::function<std::unique_ptr<Policy>(PolicyRef ref)>;

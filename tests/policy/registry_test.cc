@@ -50,7 +50,19 @@ TEST(Registry, BadReferencesAreInputErrors) {
     make_policy("noop?speed=2");
     FAIL();
   } catch (const core::InputError& e) {
-    EXPECT_STREQ(e.what(), "policy noop: expected a known option, got 'speed'");
+    EXPECT_STREQ(e.what(), "policy noop: expected one of the options space, got 'speed'");
+  }
+  try {
+    make_policy("random?bogus=1");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "policy random: expected one of the options space, seed, scale, chunk, got 'bogus'");
+  }
+  try {
+    make_policy("oracle?bogus=1");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "policy oracle: expected no options, got 'bogus'");
   }
   try {
     make_policy("random?seed=x");
