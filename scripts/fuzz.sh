@@ -24,7 +24,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$build/corpus/$t" "$build/crashes/$t" "$build/logs"
   log="$build/logs/$t.log"
   # Leaks are not crashes here: MuJoCo's and yaml-cpp's process-lifetime allocations are kept.
-  if ! ASAN_OPTIONS="detect_leaks=0:${ASAN_OPTIONS:-}" "$build/fuzz_$t" -max_total_time="$seconds" \
+  if ! ASAN_OPTIONS="detect_leaks=0:${ASAN_OPTIONS:-}" "$build/fuzz/fuzz_$t" -max_total_time="$seconds" \
       -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
       -artifact_prefix="$build/crashes/$t/" "$build/corpus/$t" "$root/fuzz/corpus/$t" >"$log" 2>&1; then
     failed=1
