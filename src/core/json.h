@@ -21,8 +21,11 @@ std::string canonical_json(const Json& value);
 // Indented text for people (same content as canonical_json).
 std::string pretty_json(const Json& value);
 
-// Parses `text`; errors are InputError with where "SOURCE:line:col".
-Json parse_json(std::string_view text, std::string_view source);
+// Parses `text`; every error is an InputError with where "SOURCE:line:col": bad syntax, a number
+// beyond the range of a double (1e400), nesting deeper than kMaxNestingDepth (core/limits.h).
+// Every reader of outside JSON parses through here. `first_line` numbers the first line of
+// `text` (a line of a JSON-lines file).
+Json parse_json(std::string_view text, std::string_view source, size_t first_line = 1);
 // Reads and parses a file. Throws InputError when it cannot be opened or parsed.
 Json read_json_file(const std::string& path);
 

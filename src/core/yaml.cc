@@ -97,9 +97,9 @@ struct TreeCheck {
       stopped = true;
       return;
     }
-    if ((node.IsMap() || node.IsSequence()) && depth >= kMaxYamlDepth) {
+    if ((node.IsMap() || node.IsSequence()) && depth >= kMaxNestingDepth) {
       out.push_back(InputError(yaml_where(file, node.Mark(), path),
-                               "nesting at most " + std::to_string(kMaxYamlDepth) + " deep",
+                               "nesting at most " + std::to_string(kMaxNestingDepth) + " deep",
                                "deeper nesting"));
       stopped = true;
       return;
@@ -173,6 +173,7 @@ YamlDocument parse_yaml(std::string_view text, std::string file,
   }
   TreeCheck check{doc.file, problems};
   check.visit(doc.root, "", 0);
+  if (check.stopped) doc.root = YAML::Node();  // too deep or too large to walk
   return doc;
 }
 

@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "core/limits.h"
 
 namespace hribench::core {
 
-inline constexpr int kMaxYamlDepth = 32;              // nested mappings/sequences
 inline constexpr size_t kMaxYamlBytes = 4u << 20;     // 4 MiB of text
 inline constexpr size_t kMaxYamlNodes = 200000;       // nodes visited (alias bombs)
 
@@ -28,8 +28,11 @@ struct YamlDocument {
 
 // Parses `text` (named `file` in messages). Appends every problem to `problems`: bytes that
 // are not UTF-8 or are control characters, tabs in indentation, syntax errors, duplicate or
-// non-scalar mapping keys, nesting deeper than kMaxYamlDepth, more than kMaxYamlNodes nodes.
-// When the bytes or the indentation are bad the text is not handed to yaml-cpp (root is null).
+// non-scalar mapping keys, nesting deeper than core::kMaxNestingDepth (core/limits.h), more than
+// kMaxYamlNodes nodes. When the bytes or the indentation are bad the text is not handed to
+// yaml-cpp, and when the tree is too deep or too large (a cyclic alias is infinitely deep) it is
+// not handed on: root is null in both cases, so a reader that walks the tree never recurses
+// past the limit.
 YamlDocument parse_yaml(std::string_view text, std::string file,
                         std::vector<InputError>& problems);
 // Reads `path` and parses it; "cannot open file" is a problem too.

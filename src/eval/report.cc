@@ -3,12 +3,15 @@
 #include <fmt/format.h>
 #include <mujoco/mujoco.h>
 
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <optional>
+#include <type_traits>
 
 #include "core/errors.h"
+#include "core/json.h"
 #include "core/version.h"
 
 namespace hribench::eval {
@@ -232,13 +235,8 @@ std::vector<EpisodeResult> load_episode_lines(const std::filesystem::path& path)
     if (end == std::string::npos) break;  // an unfinished last line
     ++line;
     const std::string where = fmt::format("{}:{}", path.string(), line);
-    json j;
-    try {
-      j = json::parse(text.substr(start, end - start));
-    } catch (const json::parse_error& e) {
-      throw core::InputError(where, "one JSON episode per line",
-                             fmt::format("invalid JSON at byte {}", e.byte));
-    }
+    const json j = core::parse_json(std::string_view(text).substr(start, end - start), path.string(),
+                                    static_cast<size_t>(line));
     episodes.push_back(episode_from_json(j, where));
     start = end + 1;
   }
@@ -266,6 +264,25 @@ json results_to_json(const RunResults& run) {
   };
 }
 
+namespace {
+
+// What a metric constant read back from a results file may be: the aggregation divides by,
+// indexes with and allocates for these, so a value outside is bad input, not a bug.
+struct ConstantRange {
+  double low;
+  bool open_low;
+  double high;
+  const char* text;
+};
+ConstantRange constant_range(std::string_view name) {
+  if (name == "confidence") return {0.0, true, 1.0 - 1e-12, "a level in (0, 1)"};
+  if (name == "wilson_z") return {0.0, true, 10.0, "a quantile in (0, 10]"};
+  if (name == "bootstrap_resamples") return {1.0, false, 1e6, "a whole count from 1 to 1000000"};
+  return {0.0, false, 1e6, "a number in [0, 1e6]"};
+}
+
+}  // namespace
+
 RunResults results_from_json(const json& j, const std::string& where) {
   const Fields f(j, where);
   if (f.string("format") != "hribench-results") {
@@ -284,7 +301,18 @@ RunResults results_from_json(const json& j, const std::string& where) {
   run.info.options = f.at("options");
   const Fields c(f.at("metric_constants"), f.where("metric_constants"));
   visit_constants(run.info.constants, [&](const char* name, auto& value, const char*) {
-    value = static_cast<std::remove_reference_t<decltype(value)>>(c.number(name));
+    using Value = std::remove_reference_t<decltype(value)>;
+    if constexpr (std::is_same_v<Value, uint64_t>) {
+      value = c.unsigned_integer(name);
+    } else {
+      const double x = c.number(name);
+      const ConstantRange range = constant_range(name);
+      const bool whole = !std::is_integral_v<Value> || x == std::floor(x);
+      if (!whole || !(range.open_low ? x > range.low : x >= range.low) || !(x <= range.high)) {
+        throw core::InputError(c.where(name), range.text, fmt::format("{}", x));
+      }
+      value = static_cast<Value>(x);
+    }
   });
   const json& episodes = f.array("episodes");
   for (size_t i = 0; i < episodes.size(); ++i) {
@@ -451,14 +479,7 @@ RunResults load_run(const std::filesystem::path& path) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw core::InputError::Message(file.string(), "cannot open the results file");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw core::InputError(file.string(), "a JSON results file",
-                           fmt::format("invalid JSON at byte {}", e.byte));
-  }
-  return results_from_json(j, file.string());
+  return results_from_json(core::parse_json(text, file.string()), file.string());
 }
 
 }  // namespace hribench::eval

@@ -6,10 +6,12 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
+#include <unordered_set>
 
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "core/limits.h"
 
 namespace hribench::human {
 namespace {
@@ -82,7 +84,7 @@ class Parser {
     expect_keyword("HIERARCHY");
     while (pos_ < tokens_.size() && iequals(peek().text, "ROOT")) {
       ++pos_;
-      parse_joint(-1);
+      parse_joint(-1, 1);
     }
     if (motion_.joints.empty()) fail(peek_line(), "ROOT", peek_text());
     expect_keyword("MOTION");
@@ -191,15 +193,17 @@ class Parser {
     ++pos_;
     return name;
   }
-  void parse_joint(int parent) {
+  // A ROOT (depth 1) or JOINT block; nested JOINTs recurse, at most core::kMaxNestingDepth deep.
+  void parse_joint(int parent, int depth) {
     const int keyword_line = tokens_[pos_ - 1].line;
+    if (depth > core::kMaxNestingDepth) {
+      fail(keyword_line, fmt::format("joints nested at most {} deep", core::kMaxNestingDepth), "deeper nesting");
+    }
     BvhJoint joint;
     joint.name = block_name(keyword_line, true);
     joint.parent = parent;
-    for (const BvhJoint& other : motion_.joints) {
-      if (other.name == joint.name) {
-        fail(keyword_line, "unique joint names", fmt::format("a second joint {}", quote_token(joint.name)));
-      }
+    if (!names_.insert(joint.name).second) {
+      fail(keyword_line, "unique joint names", fmt::format("a second joint {}", quote_token(joint.name)));
     }
     joint.offset = offset();
     if (pos_ < tokens_.size() && iequals(tokens_[pos_].text, "CHANNELS")) {
@@ -239,7 +243,7 @@ class Parser {
       const std::string got = peek_text();
       const Token t = next("JOINT, End Site or '}'");
       if (iequals(t.text, "JOINT")) {
-        parse_joint(index);
+        parse_joint(index, depth + 1);
       } else if (iequals(t.text, "End")) {
         const int site_line = peek_line();
         const std::string site_got = peek_text();
@@ -263,7 +267,8 @@ class Parser {
     }
   }
   void parse_frames(size_t num_frames, int frames_line, int header_line) {
-    motion_.frames.reserve(num_frames);
+    // Reserved only for the frames the remaining tokens can hold, not the count the file declares.
+    motion_.frames.reserve(std::min(num_frames, (tokens_.size() - pos_) / motion_.num_channels + 1));
     while (pos_ < tokens_.size()) {
       const int line = tokens_[pos_].line;
       size_t end = pos_;
@@ -303,6 +308,7 @@ class Parser {
   std::string_view name_;
   size_t pos_ = 0;
   BvhMotion motion_;
+  std::unordered_set<std::string> names_;  // joint names so far
 };
 
 Vec3 axis_of(BvhChannel c) {

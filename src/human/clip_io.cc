@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/errors.h"
+#include "core/json.h"
 #include "human/bvh.h"
 #include "human/npy.h"
 #include "human/smplh.h"
@@ -107,12 +108,7 @@ std::string format_clip_json(const Clip& clip) {
 }
 
 Clip parse_clip_json(std::string_view text, std::string_view where) {
-  Json j;
-  try {
-    j = Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& e) {
-    throw core::InputError(fmt::format("{}: byte {}", where, e.byte), "valid JSON", e.what());
-  }
+  const Json j = core::parse_json(text, where);  // nesting and number range bounded there
   const Reader r(where);
   const Json& format = r.member(j, "format", "");
   if (format != "hribench.clip") r.fail("format", "\"hribench.clip\"", format);
@@ -216,12 +212,7 @@ Clip read_clip(const std::filesystem::path& path, const RetargetOptions& options
     std::filesystem::path sidecar = path;
     sidecar += ".json";
     if (std::filesystem::exists(sidecar)) {
-      Json meta;
-      try {
-        meta = Json::parse(read_bytes(sidecar));
-      } catch (const Json::parse_error& e) {
-        throw core::InputError(fmt::format("{}: byte {}", sidecar.string(), e.byte), "valid JSON", e.what());
-      }
+      const Json meta = core::parse_json(read_bytes(sidecar), sidecar.string());
       if (!meta.is_object() || !meta.contains("fps") || !meta["fps"].is_number()) {
         throw core::InputError(sidecar.string() + ": fps", "a number", meta.dump().substr(0, 40));
       }

@@ -1,7 +1,7 @@
 #pragma once
 // NumPy array files: .npy (format versions 1.0, 2.0, 3.0) and .npz (a zip archive of .npy
-// members, stored or DEFLATE-compressed as np.savez / np.savez_compressed write them; zip64
-// size fields are understood). Only numeric arrays are decoded: little- or big-endian float32,
+// members, stored or DEFLATE-compressed as np.savez / np.savez_compressed write them, zip64
+// included), read through libzip (Debian's libzip-dev). Only numeric arrays are decoded: little- or big-endian float32,
 // float64, int32 and int64 become doubles. Object arrays ('|O', pickled Python objects) are
 // refused when read, and an npz member is only decoded when asked for, so an archive whose
 // other members are pickled or strings still reads. Errors are core::InputError naming the
@@ -39,7 +39,8 @@ std::string format_npy(const std::vector<size_t>& shape, const std::vector<doubl
 // An npz archive: member names -> raw (decompressed on demand) .npy bytes.
 class NpzArchive {
  public:
-  // Reads the zip central directory; throws core::InputError if `bytes` is not a zip archive.
+  // Reads the zip central directory (libzip, with its consistency checks); throws
+  // core::InputError if `bytes` is not a zip archive.
   NpzArchive(std::string bytes, std::string where);
   static NpzArchive Read(const std::filesystem::path& path);
 
@@ -47,29 +48,17 @@ class NpzArchive {
   std::vector<std::string> keys() const;
   bool contains(std::string_view key) const;
   // Decompresses, checks the CRC and decodes one member. Throws core::InputError (missing key,
-  // corrupt member, unsupported dtype).
+  // corrupt member, unsupported dtype, a declared size above 2 GiB or above what DEFLATE can
+  // produce from the member's stored bytes, checked before anything is allocated).
   NpyArray array(std::string_view key) const;
 
  private:
-  struct Member {
-    uint16_t method = 0;
-    uint32_t crc = 0;
-    uint64_t compressed_size = 0;
-    uint64_t size = 0;
-    uint64_t local_header = 0;
-  };
   std::string bytes_;
   std::string where_;
-  std::map<std::string, Member, std::less<>> members_;  // by key
+  std::map<std::string, uint64_t, std::less<>> members_;  // key -> zip entry index
 };
 
 // Zip bytes of stored (uncompressed) members, as np.savez writes them: name -> .npy bytes.
 std::string format_npz(const std::map<std::string, std::string>& members);
-
-// Raw DEFLATE (RFC 1951) decoder; `where` names the stream in errors, which give the byte
-// offset of the problem within `compressed`. `expected_size` bounds the output.
-std::string inflate_raw(std::string_view compressed, size_t expected_size, std::string_view where);
-// CRC-32 (ISO 3309, as zip uses).
-uint32_t crc32(std::string_view bytes);
 
 }  // namespace hribench::human

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/errors.h"
+#include "core/limits.h"
 
 namespace hribench::script {
 namespace {
@@ -120,7 +121,19 @@ class Parser {
     throw ExprError{"a value", t.kind == Token::Kind::kEnd ? "nothing" : quote(t.text)};
   }
 
+  // A call's arguments may hold calls (choice([choice([...])])): the nesting is bounded here,
+  // where the parser recurses (core::kMaxNestingDepth, docs/hardening.md).
   Expr parse_call(const std::string& name) {
+    if (calls_open_ == core::kMaxNestingDepth) {
+      throw ExprError{"calls nested at most " + std::to_string(core::kMaxNestingDepth) + " deep",
+                      "deeper nesting"};
+    }
+    ++calls_open_;
+    Expr e = parse_call_body(name);
+    --calls_open_;
+    return e;
+  }
+  Expr parse_call_body(const std::string& name) {
     expect("(", "after the function name");
     Expr e;
     if (name == "U" || name == "Uint") {
@@ -208,6 +221,7 @@ class Parser {
 
   std::string_view text_;
   std::vector<Token> tokens_;
+  int calls_open_ = 0;
   size_t i_ = 0;
 };
 

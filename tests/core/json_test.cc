@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/errors.h"
+#include "core/limits.h"
 #include "core/rng.h"
 
 namespace hribench::core {
@@ -50,6 +51,30 @@ TEST(JsonTest, ParseErrorsCarryLineAndColumn) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where(), "spec.json:3:8");
     EXPECT_NE(std::string(e.what()).find("invalid JSON"), std::string::npos);
+  }
+}
+
+// Nesting deeper than kMaxNestingDepth is refused where it starts (200,000 levels used to
+// overflow the stack in the DOM and its readers), and a number beyond a double's range is an
+// InputError with its location, not nlohmann's out_of_range.
+TEST(JsonTest, DeepNestingAndHugeNumbersAreInputErrors) {
+  const std::string ok = std::string(kMaxNestingDepth, '[') + std::string(kMaxNestingDepth, ']');
+  EXPECT_EQ(parse_json(ok, "ok.json").size(), 1U);
+  for (const size_t n : {size_t{kMaxNestingDepth} + 1, size_t{200000}}) {
+    try {
+      parse_json("\n " + std::string(n, '[') + std::string(n, ']'), "deep.json");
+      FAIL() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), "deep.json:2:34: expected nesting at most 32 deep, got deeper nesting");
+    }
+  }
+  try {
+    parse_json(R"({"a": {"x": 1}, "b": "[[[[", "fps": 1e400})", "clip.json");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), "clip.json:1:37");
+    EXPECT_EQ(e.expected(), "a number within the range of a double");
+    EXPECT_EQ(e.got(), "'1e400'");
   }
 }
 

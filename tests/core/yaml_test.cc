@@ -77,6 +77,18 @@ TEST(YamlTest, AliasBombsStop) {
   EXPECT_NE(p[0].find("nodes"), std::string::npos);
 }
 
+// The 37-byte script of issue 22: a cyclic alias is infinitely deep. The depth is reported once
+// and the tree is not handed on (root null), so no reader follows the cycle.
+TEST(YamlTest, CyclicAliasIsRefusedAndNotHandedOn) {
+  std::vector<InputError> problems;
+  const YamlDocument doc = parse_yaml("acts:\n  a: &a\n    motion:\n      x: *a\n", "c.yaml", problems);
+  ASSERT_EQ(problems.size(), 1U);
+  EXPECT_EQ(problems[0].expected(), "nesting at most 32 deep");
+  EXPECT_EQ(problems[0].got(), "deeper nesting");
+  EXPECT_EQ(problems[0].where().rfind("c.yaml:2:6 (acts.a.motion.x.motion.x.", 0), 0U) << problems[0].where();
+  EXPECT_TRUE(doc.root.IsNull());
+}
+
 TEST(YamlTest, ThrowingFormAndMissingFile) {
   EXPECT_THROW(parse_yaml("a: 1\na: 2\n", "t.yaml"), InputError);
   std::vector<InputError> problems;

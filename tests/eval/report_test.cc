@@ -110,8 +110,7 @@ TEST(Report, WriteAndLoadRun) {
     load_run(dir);
     FAIL();
   } catch (const core::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("expected a JSON results file, got invalid JSON at byte"),
-              std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("results.json:1:32: invalid JSON"), std::string::npos) << e.what();
   }
   std::filesystem::remove_all(dir);
 }
@@ -134,7 +133,7 @@ TEST(Report, EpisodeLinesSurviveAKilledWrite) {
     load_episode_lines(path);
     FAIL();
   } catch (const core::InputError& e) {
-    EXPECT_EQ(e.where(), path.string() + ":2");
+    EXPECT_EQ(e.where(), path.string() + ":2:2");  // line 2, column 2
   }
   std::filesystem::remove(path);
 }
@@ -161,6 +160,34 @@ TEST(Report, BadEpisodeFieldsNameTheirPlace) {
   j = episode_to_json(sample_run().episodes[1]);
   j.erase("task");
   EXPECT_THROW(episode_from_json(j, "e"), core::InputError);
+}
+
+// metric_constants read back from a results file are checked against their ranges: these
+// values used to abort `report` (0 resamples), cast 1e300 to int, or index out of bounds.
+TEST(Report, MetricConstantsOutOfRangeAreInputErrors) {
+  const nlohmann::json good = results_to_json(sample_run());
+  const auto error_of = [&](const char* name, const nlohmann::json& value) {
+    nlohmann::json j = good;
+    j["metric_constants"][name] = value;
+    try {
+      results_from_json(j, "r.json");
+    } catch (const core::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(error_of("bootstrap_resamples", 0),
+            "r.json.metric_constants.bootstrap_resamples: expected a whole count from 1 to 1000000, got 0");
+  EXPECT_EQ(error_of("bootstrap_resamples", 1e300),
+            "r.json.metric_constants.bootstrap_resamples: expected a whole count from 1 to 1000000, got 1e+300");
+  EXPECT_EQ(error_of("bootstrap_resamples", 2.5),
+            "r.json.metric_constants.bootstrap_resamples: expected a whole count from 1 to 1000000, got 2.5");
+  EXPECT_EQ(error_of("confidence", 3), "r.json.metric_constants.confidence: expected a level in (0, 1), got 3");
+  EXPECT_EQ(error_of("moving_ee_speed", -1),
+            "r.json.metric_constants.moving_ee_speed: expected a number in [0, 1e6], got -1");
+  EXPECT_EQ(error_of("bootstrap_seed", -3),
+            "r.json.metric_constants.bootstrap_seed: expected a non-negative integer, got -3");
+  EXPECT_EQ(error_of("confidence", 0.9), "(no error)");
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <map>
 
@@ -224,6 +225,45 @@ TEST(BvhTest, MixamoNamesImportTheSameMotion) {
   for (BvhJoint& j : m.joints) j.name = "mixamorig:" + rename.at(j.name);
   const Clip back = clip_from_bvh(parse_bvh(format_bvh(m), "mixamo.bvh"), {}, "mixamo.bvh");
   EXPECT_LT(testing::max_joint_error(clip, back), 1e-3);
+}
+
+// A hierarchy of `depth` nested joints (or `width` siblings under the root), one channel each.
+std::string nested_bvh(int depth, int width) {
+  std::string text = "HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 1 Xposition\n";
+  for (int i = 0; i < depth; ++i) text += "JOINT n" + std::to_string(i) + "\n{\nOFFSET 0 1 0\n";
+  for (int i = 0; i < width; ++i) text += "JOINT w" + std::to_string(i) + "\n{\nOFFSET 0 1 0\n}\n";
+  for (int i = 0; i < depth; ++i) text += "}\n";
+  return text + "}\nMOTION\nFrames: 1\nFrame Time: 0.033\n0\n";
+}
+
+// Joints nested deeper than core::kMaxNestingDepth are refused where the parser recurses
+// (100,000 nested joints used to overflow the stack).
+TEST(BvhTest, DeeplyNestedJointsAreRefused) {
+  EXPECT_EQ(parse_bvh(nested_bvh(31, 0), "ok.bvh").joints.size(), 32U);
+  for (const int depth : {32, 100000}) {
+    try {
+      parse_bvh(nested_bvh(depth, 0), "deep.bvh");
+      FAIL() << "no error";
+    } catch (const core::InputError& e) {
+      // The 33rd joint's JOINT keyword: 5 header lines, 3 lines per joint.
+      EXPECT_EQ(std::string(e.what()), "deep.bvh:99: expected joints nested at most 32 deep, got deeper nesting");
+    }
+  }
+}
+
+// 60,000 sibling joints parse in linear time (the duplicate-name check was quadratic: 100 s),
+// and a repeated name is still refused.
+TEST(BvhTest, ManySiblingJointsParseQuicklyAndNamesStayUnique) {
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(parse_bvh(nested_bvh(0, 60000), "wide.bvh").joints.size(), 60001U);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+  try {
+    parse_bvh("HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 1 Xposition\nJOINT r\n{\nOFFSET 0 0 0\n}\n}\n"
+              "MOTION\nFrames: 1\nFrame Time: 0.033\n0\n", "twice.bvh");
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "twice.bvh:6: expected unique joint names, got a second joint 'r'");
+  }
 }
 
 TEST(BvhTest, UnknownSkeletonIsAClearError) {

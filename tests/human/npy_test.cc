@@ -50,30 +50,6 @@ TEST(NpyTest, ReadsBigEndianVersionTwoAndIntegers) {
   EXPECT_EQ(parse_npy(b2, "i.npy").values, std::vector<double>{-7.0});
 }
 
-TEST(NpyTest, Crc32MatchesTheStandardCheckValue) {
-  EXPECT_EQ(crc32("123456789"), 0xCBF43926u);
-  EXPECT_EQ(crc32(""), 0u);
-}
-
-TEST(NpyTest, InflatesStoredFixedAndDynamicBlocks) {
-  // Raw deflate (zlib wbits -15, level 9) of "hello hello hello hello": a fixed-Huffman block with a match.
-  const std::string fixed("\xcb\x48\xcd\xc9\xc9\x57\xc8\x40\x27\x01", 10);
-  EXPECT_EQ(inflate_raw(fixed, 100, "f"), "hello hello hello hello");
-  // A stored block: BFINAL=1 BTYPE=00, LEN=3, NLEN=~3, "abc".
-  const std::string stored("\x01\x03\x00\xfc\xff" "abc", 8);
-  EXPECT_EQ(inflate_raw(stored, 3, "s"), "abc");
-  // The output is bounded by the declared size.
-  EXPECT_THROW(inflate_raw(stored, 2, "s"), core::InputError);
-  // Truncated stream: a clear error with the byte offset.
-  try {
-    inflate_raw(fixed.substr(0, 4), 100, "t.npz[x.npy]");
-    FAIL() << "no error";
-  } catch (const core::InputError& e) {
-    EXPECT_EQ(e.where(), "t.npz[x.npy]: byte 4");
-    EXPECT_EQ(e.got(), "the end of the stream");
-  }
-}
-
 TEST(NpyTest, NpzArchiveReadsDeflatedMembersAndSkipsOthers) {
   // Written by Python's zipfile the way np.savez_compressed does (DEFLATE, zip64 local headers,
   // dynamic Huffman blocks), with a '<U7' string member that is never decoded.
@@ -97,6 +73,54 @@ TEST(NpyTest, FormatNpzThenReadBack) {
   EXPECT_EQ(npz.keys(), (std::vector<std::string>{"a", "b"}));
   EXPECT_EQ(npz.array("a").values, (std::vector<double>{1, 2}));
   EXPECT_EQ(npz.array("b").values, (std::vector<double>{3}));
+}
+
+// Little-endian field of `n` bytes at `at`.
+void patch(std::string& bytes, size_t at, uint64_t value, int n) {
+  for (int i = 0; i < n; ++i) bytes[at + static_cast<size_t>(i)] = static_cast<char>((value >> (8 * i)) & 0xff);
+}
+
+core::InputError npz_error(const std::string& bytes, const char* key) {
+  try {
+    const NpzArchive npz(bytes, "x.npz");
+    npz.array(key);
+  } catch (const core::InputError& e) {
+    return e;
+  }
+  return core::InputError("(no error)", "", "");
+}
+
+// Archives that made our own zip reader read out of bounds or reserve 4 GiB (issue 22), now
+// read by libzip: each is one InputError.
+TEST(NpyTest, MalformedZipsAreInputErrors) {
+  const std::string good = format_npz({{"a", format_npy({2}, {1, 2}, NpyType::kFloat64)}});
+  const size_t entry = good.size() - 22 - (46 + 5);  // the one central directory entry
+  ASSERT_EQ(good.substr(entry, 4), "PK\x01\x02");
+  // A declared size of 4 GiB in both headers of a stored member of 144 bytes: refused before
+  // anything is allocated.
+  std::string huge = good;
+  patch(huge, 22, 0xfffffffeu, 4);
+  patch(huge, entry + 24, 0xfffffffeu, 4);
+  const core::InputError size_error = npz_error(huge, "a");
+  EXPECT_EQ(size_error.where(), "x.npz[a.npy]");
+  EXPECT_EQ(size_error.expected(), "a member of at most 2147483648 bytes that its 144 stored bytes can hold");
+  EXPECT_EQ(size_error.got(), "4294967294 bytes declared");
+  // An extra field longer than the entry.
+  std::string extra = good;
+  patch(extra, entry + 30, 0xffff, 2);
+  EXPECT_EQ(npz_error(extra, "a").where(), "x.npz");
+  EXPECT_EQ(npz_error(extra, "a").expected(), "a zip archive (npz)");
+  EXPECT_EQ(npz_error(extra, "a").got(), "Zip archive inconsistent");
+  // A zip64 end-of-directory locator whose record lies far past the end of the file.
+  std::string zip64 = good;
+  patch(zip64, zip64.size() - 22 + 10, 0xffff, 2);
+  std::string locator = "PK\x06\x07";
+  locator += std::string(16, '\0');
+  patch(locator, 8, uint64_t{1} << 60, 8);
+  zip64.insert(zip64.size() - 22, locator);
+  EXPECT_EQ(npz_error(zip64, "a").where(), "x.npz");
+  EXPECT_EQ(npz_error(zip64, "a").expected(), "a zip archive (npz)");
+  EXPECT_EQ(npz_error(zip64, "a").got(), "Zip archive inconsistent");
 }
 
 }  // namespace

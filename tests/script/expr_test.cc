@@ -59,6 +59,24 @@ TEST(ExprTest, RefusesMalformedDistributions) {
   EXPECT_THROW(parse_expr("2000000"), ExprError);
 }
 
+// Calls nested deeper than core::kMaxNestingDepth are refused by the parser (5,000 nested
+// choice(...) used to overflow the stack in `hribench check`).
+TEST(ExprTest, DeeplyNestedCallsAreRefused) {
+  const auto nested = [](int n) {
+    std::string text;
+    for (int i = 0; i < n; ++i) text += "choice([";
+    text += "1";
+    for (int i = 0; i < n; ++i) text += "])";
+    return text;
+  };
+  EXPECT_EQ(parse_expr(nested(32)).kind, Expr::Kind::kChoice);
+  for (const int n : {33, 5000}) {
+    const ExprError e = error_of(nested(n));
+    EXPECT_EQ(e.expected, "calls nested at most 32 deep");
+    EXPECT_EQ(e.got, "deeper nesting");
+  }
+}
+
 TEST(ExprTest, DrawsWithinSupportAndFollowsWeights) {
   core::Rng rng(11);
   VarTable vars;
