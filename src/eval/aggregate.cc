@@ -118,7 +118,7 @@ GroupSummary summarize_group(const std::string& group, const std::string& policy
     const std::vector<double> values = collect(episodes, get);
     if (values.empty()) return std::nullopt;
     const auto hits = std::count_if(values.begin(), values.end(), [](double v) { return v >= 0.5; });
-    return wilson_interval(static_cast<int>(hits), static_cast<int>(values.size()), c.wilson_z);
+    return wilson_interval(static_cast<int>(hits), static_cast<int>(values.size()), c.wilson_z());
   };
   s.csr = rate([](const EpisodeMetrics& m) { return m.success ? 1.0 : 0.0; });
   s.ct = continuous("ct", [](const EpisodeMetrics& m) { return m.completion_time; });

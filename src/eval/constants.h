@@ -8,6 +8,10 @@
 
 namespace hribench::eval {
 
+// The standard normal distribution's quantile: z with Phi(z) = p, p in (0, 1) (HRIB_CHECK),
+// to the last bit or so (Newton's method on erfc).
+double normal_quantile(double p);
+
 struct MetricConstants {
   // Robot motion state. Moving: end-effector speed above moving_ee_speed or gripper width
   // changing faster than moving_gripper_rate, for at least moving_sustain. Still: speed below
@@ -46,10 +50,13 @@ struct MetricConstants {
   // Comparisons of times allow this slack (20 Hz times are not exact in binary).
   double time_epsilon = 1e-9;  // s
   // Aggregation.
-  double confidence = 0.95;          // two-sided interval level
-  double wilson_z = 1.959963984540054;  // standard normal quantile for `confidence`
+  double confidence = 0.95;          // two-sided interval level, in (0, 1)
   int bootstrap_resamples = 2000;
   uint64_t bootstrap_seed = 20240917;
+
+  // The Wilson interval's z: the standard normal quantile of 1 - (1 - confidence) / 2
+  // (1.959963984540054 at 0.95), derived, never stored.
+  double wilson_z() const { return normal_quantile(1 - (1 - confidence) / 2); }
 };
 
 struct NamedConstant {
@@ -90,7 +97,6 @@ void visit_constants(Constants& c, Visit&& visit) {
   visit("unsafe_proximity_below", c.unsafe_proximity_below, "");
   visit("time_epsilon", c.time_epsilon, "s");
   visit("confidence", c.confidence, "");
-  visit("wilson_z", c.wilson_z, "");
   visit("bootstrap_resamples", c.bootstrap_resamples, "count");
   visit("bootstrap_seed", c.bootstrap_seed, "");
 }

@@ -18,6 +18,7 @@
 
 #include "core/errors.h"
 #include "model/mjcf.h"
+#include "script/catalogue.h"
 
 namespace hribench::model {
 namespace {
@@ -25,25 +26,6 @@ namespace {
 using core::Pose;
 using core::Vec3;
 
-constexpr std::array<std::string_view, kNumObjectKinds> kKindNames = {
-    "cube", "cup", "bottle", "plate", "bin", "tray", "box", "plank"};
-
-struct NamedColour {
-  std::string_view name;
-  Rgba rgba;
-};
-const std::vector<NamedColour>& colour_table() {
-  static const std::vector<NamedColour> table = {
-      {"red", {0.85f, 0.12f, 0.12f, 1}},    {"green", {0.15f, 0.7f, 0.2f, 1}},
-      {"blue", {0.15f, 0.3f, 0.85f, 1}},    {"yellow", {0.95f, 0.85f, 0.1f, 1}},
-      {"orange", {0.95f, 0.5f, 0.1f, 1}},   {"purple", {0.55f, 0.2f, 0.7f, 1}},
-      {"cyan", {0.1f, 0.8f, 0.85f, 1}},     {"magenta", {0.9f, 0.15f, 0.65f, 1}},
-      {"white", {0.95f, 0.95f, 0.95f, 1}},  {"black", {0.08f, 0.08f, 0.08f, 1}},
-      {"grey", {0.5f, 0.5f, 0.5f, 1}},      {"brown", {0.5f, 0.3f, 0.15f, 1}},
-      {"pink", {0.98f, 0.6f, 0.7f, 1}},
-  };
-  return table;
-}
 
 // Robot base keep-out radius on the table top (m): objects may not start on the base.
 constexpr double kBaseKeepOut = 0.13;
@@ -137,10 +119,13 @@ Resolved resolve(const SceneSpec& in) {
     ObjectSpec& o = r.spec.objects[i];
     const std::string where = fmt::format("scene.objects[{}]", i);
     const auto kind = object_kind_from_name(o.kind);
-    if (!kind)
-      throw core::InputError(where + ".kind",
-                             "one of cube, cup, bottle, plate, bin, tray, box, plank",
-                             "'" + o.kind + "'");
+    if (!kind) {
+      std::string all;
+      for (const script::ObjectKindEntry& k : script::catalogue_kinds()) {
+        all += (all.empty() ? "" : ", ") + std::string(k.name);
+      }
+      throw core::InputError(where + ".kind", "one of " + all, "'" + o.kind + "'");
+    }
     const auto colour = colour_from_name(o.colour);
     if (!colour) {
       std::string all;
@@ -482,24 +467,26 @@ int id_of(const mjModel* m, mjtObj type, const std::string& name) {
 
 }  // namespace
 
-std::string_view to_string(ObjectKind kind) { return kKindNames[static_cast<size_t>(kind)]; }
+std::string_view to_string(ObjectKind kind) { return script::catalogue_kinds()[static_cast<size_t>(kind)].name; }
 
 std::optional<ObjectKind> object_kind_from_name(std::string_view name) {
-  for (size_t i = 0; i < kKindNames.size(); ++i)
-    if (kKindNames[i] == name) return static_cast<ObjectKind>(i);
+  const auto& kinds = script::catalogue_kinds();
+  for (size_t i = 0; i < kinds.size(); ++i)
+    if (kinds[i].name == name) return static_cast<ObjectKind>(i);
   return std::nullopt;
 }
 
 std::optional<Rgba> colour_from_name(std::string_view name) {
-  for (const auto& c : colour_table())
-    if (c.name == name) return c.rgba;
-  return std::nullopt;
+  // (Also "grey", the old spelling of gray: eval's script driver still passes it.)
+  const script::ColourEntry* c = script::find_colour(name == "grey" ? "gray" : name);
+  if (!c) return std::nullopt;
+  return Rgba{c->rgba[0], c->rgba[1], c->rgba[2], c->rgba[3]};
 }
 
 const std::vector<std::string_view>& colour_names() {
   static const std::vector<std::string_view> names = [] {
     std::vector<std::string_view> v;
-    for (const auto& c : colour_table()) v.push_back(c.name);
+    for (const script::ColourEntry& c : script::catalogue_colours()) v.push_back(c.name);
     return v;
   }();
   return names;

@@ -40,8 +40,8 @@ std::optional<ObjectKind> object_kind_from_name(std::string_view name);
 struct Rgba {
   float r = 0, g = 0, b = 0, a = 1;
 };
-// Named colours: "red", "green", "blue", "yellow", "orange", "purple", "cyan", "magenta",
-// "white", "black", "grey", "brown", "pink".
+// Named colours: the object catalogue's (script/catalogue.h), and "grey", the old spelling of
+// "gray" (eval's script driver still passes it).
 std::optional<Rgba> colour_from_name(std::string_view name);
 // All colour names accepted by colour_from_name, in a fixed order.
 const std::vector<std::string_view>& colour_names();

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "model/mjcf.h"
+#include "script/catalogue.h"
 
 namespace hribench::model::mjcf {
 namespace {
@@ -64,17 +65,7 @@ std::optional<ContainerWalls> container_walls(ObjectKind kind, double s) {
 }
 
 core::Vec3 nominal_half_extents(ObjectKind kind) {
-  switch (kind) {
-    case ObjectKind::kCube: return {0.025, 0.025, 0.025};
-    case ObjectKind::kCup: return {0.035, 0.035, 0.045};
-    case ObjectKind::kBottle: return {0.032, 0.032, 0.105};
-    case ObjectKind::kPlate: return {0.1, 0.1, 0.008};
-    case ObjectKind::kBin: return {0.12, 0.09, 0.05};
-    case ObjectKind::kTray: return {0.15, 0.11, 0.0125};
-    case ObjectKind::kBox: return {0.1, 0.08, 0.064};  // with the closed lid
-    case ObjectKind::kPlank: return {0.3, 0.03, 0.02};
-  }
-  return {};
+  return script::catalogue_kinds()[static_cast<size_t>(kind)].half_extents;
 }
 
 double nominal_mass(ObjectKind kind) {

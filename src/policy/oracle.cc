@@ -144,14 +144,13 @@ void ExpertPolicy::reset(const EpisodeInfo& info) {
   started_ = false;
   start_positions_.clear();
   current_ = plan_.size() + 1;  // forces begin_step on the first act()
-  phase_ = 0;
+  phase_ = PickPhase::kApproach;
   phase_start_ = 0;
   latched_valid_ = false;
   believed_.clear();
   speed_ = kMaxSpeed;
   gripper_ = 1.0;
   velocity_ = Vec3::Zero();
-  retries_ = 0;
   palms_time_ = -1;
 }
 
@@ -167,13 +166,19 @@ void ExpertPolicy::update_events(const Observation& observation) {
     const ScriptEvent& e = observation.events[events_read_];
     if (e.kind == "predicate_change") {
       bool found = false;
-      for (auto& [name, value] : predicates_) {
-        if (name == e.name) {
-          value = e.detail == "true";
+      for (LoggedPredicate& p : predicates_) {
+        if (p.name == e.name) {
+          p.value = e.detail == "true";
           found = true;
         }
       }
-      if (!found) predicates_.emplace_back(e.name, e.detail == "true");
+      if (!found) {
+        // The name is the predicate's text, bound to the episode's objects as the script was.
+        std::vector<std::string> names;
+        for (const ObjectGeometry& g : objects_) names.push_back(g.name);
+        predicates_.push_back(
+            {e.name, script::holding_atom(script::bind_predicate(e.name, names).root), e.detail == "true"});
+      }
       continue;
     }
     if (e.kind == "warning") continue;
@@ -225,7 +230,7 @@ bool ExpertPolicy::step_done(size_t i) const {
     case StepKind::kCoCarry:
       return false;  // the skill finishes its retreat / stays / brings it into the palm
     case StepKind::kPick:
-      return ended && !(i == current_ && phase_ == 2);  // a grasp being closed is finished
+      return ended && !(i == current_ && closing_grasp());  // a grasp being closed is finished
     default:
       return ended;
   }
@@ -235,21 +240,22 @@ bool ExpertPolicy::step_dropped(size_t i) const {
   return !plan_[i].dropped_by.empty() && seen(plan_[i].dropped_by);
 }
 
-void ExpertPolicy::set_phase(int phase, double time) {
+void ExpertPolicy::set_phase(SkillPhase phase, double time) {
   phase_ = phase;
   phase_start_ = time;
 }
 
 void ExpertPolicy::restart_approach() {
-  // Descending (1) or lowering (11) restart from above the grasp (0) or the target (10).
-  if (phase_ == 1) phase_ = 0;
-  if (phase_ == 11) phase_ = 10;
+  // Descending, lowering or creeping restart from above the grasp, the target or the ready
+  // point (the phase's start time kept).
+  if (in_phase(PickPhase::kDescend)) phase_ = PickPhase::kApproach;
+  if (in_phase(PlacePhase::kLower)) phase_ = PlacePhase::kCarry;
+  if (in_phase(BoxWaitPhase::kCreep)) phase_ = BoxWaitPhase::kToReady;
 }
 
 void ExpertPolicy::begin_step(size_t i, const World& world) {
   current_ = i;
-  set_phase(0, world.time);
-  retries_ = 0;
+  set_phase(PickPhase::kApproach, world.time);
   latched_valid_ = false;
   latched_target_valid_ = false;
   latched_palm_valid_ = false;
@@ -318,7 +324,7 @@ ActionChunk ExpertPolicy::act(const Observation& observation) {
     if (!step.pause_on.empty() && seen(step.pause_on)) hold = true;
   }
   // A grasp being closed is finished first (lifting a half-closed grasp drops the object).
-  bool closing = phase_ == 2 && current_ < plan_.size();
+  bool closing = closing_grasp() && current_ < plan_.size();
   const bool disrupted = competence_ == Competence::kOracle && disruption_running();
   // ... except when a person reaches in: a top-down grasp of an object on the table is cut
   // short at once, the fingers gripping what they already touch (the robot backs off holding
@@ -333,7 +339,7 @@ ActionChunk ExpertPolicy::act(const Observation& observation) {
     if (table_pick) {
       const bool touching = world.width < grip_width(objects_[k].kind, objects_[k].half_extents) + 0.002;
       gripper_ = touching ? 0.0 : 1.0;
-      set_phase(touching ? 3 : 0, world.time);
+      set_phase(touching ? PickPhase::kLift : PickPhase::kApproach, world.time);
       closing = false;
     }
   }
@@ -531,7 +537,7 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
     // goes on slowly while it brings the robot closer to the person by at most a quarter of its
     // travel (I5: a person who pointed at the tray stands near it; closer than
     // kRetreatDistance the robot backs off as above).
-    const bool lowering = (phase_ == 1 || phase_ == 11) && to_go.head<2>().norm() < 0.02 && to_go.z() < -0.005;
+    const bool lowering = final_approach() && to_go.head<2>().norm() < 0.02 && to_go.z() < -0.005;
     if (speed_ > 0 && lowering && nearest(0.02 * to_go.normalized(), unused) >= best - 0.005) {
       return kSeparatingScale;
     }

@@ -29,12 +29,14 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "core/math.h"
 #include "human/skeleton.h"
 #include "policy/oracle_plan.h"
 #include "policy/policy.h"
+#include "script/predicate.h"
 
 namespace hribench::policy {
 
@@ -62,6 +64,63 @@ inline constexpr double kYieldX = 0.30;
 inline constexpr double kYieldZ = 1.0;
 // ... and at least kYieldClearance (horizontally) from each palm, moving sideways (|y| <= 0.45).
 inline constexpr double kYieldClearance = 0.45;
+
+// What the robot is doing within the current plan step: one phase enum per skill, in the
+// order the skill goes through them.
+// Picking an object off the table or out of a box (also the first part of a place or offer
+// step that does not hold its object yet).
+enum class PickPhase {
+  kApproach,  // gripper open, over the grasp point (over a box's rim)
+  kDescend,   // straight down onto the grasp point
+  kClose,     // pre-shape, squeeze, grip, check that something is between the fingers
+  kLift,      // holding it, up clear of the other objects (out of the box)
+};
+// Placing the held object on or in its target (put back, hover).
+enum class PlacePhase {
+  kCarry,     // over the spot on the target, at carrying height
+  kLower,     // down onto the target's surface
+  kRelease,   // opening the gripper
+  kWithdraw,  // up, away from the placed object
+};
+// Bringing the held object into a receiving human palm.
+enum class OfferPhase {
+  kBring,     // toward the palm, hovering over a hand held out without a gesture until it opens
+  kHandOpen,  // the receiving hand has opened: into it once it has been open the act's `open` time
+};
+// Letting go of an object a human hand has taken.
+enum class ReleasePhase {
+  kWaitForHand,  // still gripping until the hand holds the object
+  kOpen,         // opening the gripper
+  kWithdraw,     // the fingers out of the hand, away from the person
+};
+// Taking an object a person holds out.
+enum class TakePhase {
+  kApproach,  // short of the object while the person reaches; then over its grasp point
+  kDescend,   // down to the grasp point, fingers open
+  kSqueeze,   // pre-shape, squeeze until both fingers touch
+  kGrip,      // full grip force, then check that something is between the fingers
+  kHold,      // holding it still until the person lets go
+  kBackAway,  // (the place step after it) back toward the robot's base, away from the person
+};
+// Carrying an object together with a person (the robot's end of it).
+enum class CoCarryPhase {
+  kApproach,  // gripper open, over the robot's end
+  kDescend,   // down to it, pre-shaping on the last centimetres
+  kClose,     // squeeze, check the grip
+  kHold,      // holding: waiting for the lift cue, then following the person's end
+  kOpen,      // letting go with the person
+  kWithdraw,  // up and back, off the object
+};
+// Waiting beside a lidded box until the person opens it.
+enum class BoxWaitPhase {
+  kToReady,  // over the ready point beside the box, from above
+  kCreep,    // the last centimetres to the waiting point, slowly
+};
+// The phase of the skill the current step runs. Every step begins at PickPhase::kApproach
+// (the skills that pick first start there); a skill that finds another skill's phase enters
+// its own first phase.
+using SkillPhase = std::variant<PickPhase, PlacePhase, OfferPhase, ReleasePhase, TakePhase, CoCarryPhase,
+                                BoxWaitPhase>;
 
 class ExpertPolicy : public Policy {
  public:
@@ -96,10 +155,11 @@ class ExpertPolicy : public Policy {
   // The manipulation skill of the current step: sets target_ (TCP pose), speed_ and gripper_.
   void run_step(const World& world);
   void run_pick(const World& world, const std::string& object, bool close);
-  // Grasp phase 2 at `grasp`: pre-shape `width` + kPreshapeGap for `preshape` s, squeeze at
-  // `rate` (m/s) to kSqueezeDepth under it, grip `grip` s, then phase 3 if something is
-  // between the fingers, else phase 0 (a retry).
-  void squeeze(const World& world, double width, const core::Vec3& grasp, double preshape, double rate,
+  // Closing on an object at `grasp`, timed from the phase's start: pre-shape `width` +
+  // kPreshapeGap for `preshape` s, squeeze at `rate` (m/s) to kSqueezeDepth under it, grip
+  // `grip` s, then kHolding if something is between the fingers, else kMissed (a retry).
+  enum class Grip { kClosing, kHolding, kMissed };
+  Grip squeeze(const World& world, double width, const core::Vec3& grasp, double preshape, double rate,
                double grip);
   // The gripper, commanded closed, holds object k (objects_ order): the fingers stopped apart
   // and the object's centre within reach of the TCP.
@@ -134,8 +194,8 @@ class ExpertPolicy : public Policy {
   bool receiving_hand(int side) const;
   // Hand `side` has shown where it wants an object (the gesture phase of a give_me act began).
   bool palm_shown(int side) const;
-  // The logged predicate `name` is true now (false when not logged).
-  bool predicate_true(const std::string& name) const;
+  // A logged predicate grasped(robot, object) is true now (false when not logged).
+  bool robot_grasps(const std::string& object) const;
   // `object` starts in a human hand (the scene's held_by).
   bool starts_in_hand(const std::string& object) const;
   // Taking an object a person holds out (oracle_handover.cc): the approach and grasp steps of
@@ -145,7 +205,24 @@ class ExpertPolicy : public Policy {
   bool run_take_retreat(const World& world);
   // A logged predicate held(human.H, object) (alone, not within a conjunction) is true.
   bool human_holds(const std::string& object) const;
-  void set_phase(int phase, double time);
+  void set_phase(SkillPhase phase, double time);
+  // The current step's skill is in phase `phase` / in one of `Phase`'s phases.
+  template <typename Phase>
+  bool in_phase(Phase phase) const {
+    const Phase* now = std::get_if<Phase>(&phase_);
+    return now != nullptr && *now == phase;
+  }
+  template <typename Phase>
+  bool in_skill() const {
+    return std::holds_alternative<Phase>(phase_);
+  }
+  // Closing the gripper on an object on the table or in a box (finished before anything else).
+  bool closing_grasp() const { return in_phase(PickPhase::kClose); }
+  // On the last stretch to a grasp point, a target's surface or the box's waiting point (the
+  // moves a back-off restarts from above, and lowering that goes on slowly near a person).
+  bool final_approach() const {
+    return in_phase(PickPhase::kDescend) || in_phase(PlacePhase::kLower) || in_phase(BoxWaitPhase::kCreep);
+  }
   void restart_approach();  // after backing off: approach the grasp / target from above again
   double separation_scale(const World& world, core::Vec3& retreat) const;
   // `direction` (unit) less its components toward the current step's object and target, so
@@ -160,7 +237,14 @@ class ExpertPolicy : public Policy {
   std::vector<PlanStep> plan_;
   std::vector<ObjectGeometry> objects_;
   std::vector<std::string> events_;      // names of events seen (kinds act_*, phase, cue)
-  std::vector<std::pair<std::string, bool>> predicates_;  // logged predicates, last value
+  // A logged predicate (a goal or success predicate whose changes are events): its name (the
+  // predicate's text), what it says about holding, and its last value.
+  struct LoggedPredicate {
+    std::string name;
+    std::optional<script::HoldingAtom> holding;
+    bool value = false;
+  };
+  std::vector<LoggedPredicate> predicates_;
   std::vector<char> internal_done_;      // per step: its skill sequence finished
   size_t events_read_ = 0;
   bool stopped_ = false;                 // a stop cue holds the robot
@@ -172,8 +256,8 @@ class ExpertPolicy : public Policy {
   std::vector<core::Vec3> start_positions_;  // per object (objects_ order): body origin at start
   // Skill state.
   size_t current_ = 0;
-  int phase_ = 0;
-  double phase_start_ = 0;
+  SkillPhase phase_ = PickPhase::kApproach;
+  double phase_start_ = 0;  // s: when phase_ began
   core::Vec3 latched_ = core::Vec3::Zero();  // the object pose seen when the step began
   bool latched_valid_ = false;
   core::Vec3 latched_target_ = core::Vec3::Zero();  // the target object's pose then
@@ -191,7 +275,6 @@ class ExpertPolicy : public Policy {
   double gripper_ = 1.0;
   core::Vec3 reference_ = core::Vec3::Zero();  // the commanded TCP position of the profile
   core::Vec3 velocity_ = core::Vec3::Zero();
-  int retries_ = 0;
   // Co-carry: the person's palms (left, right) at the last control step (the velocity of those
   // holding the object leads the robot's end), and that step's time (< 0: none).
   std::array<core::Vec3, 2> palms_last_ = {core::Vec3::Zero(), core::Vec3::Zero()};

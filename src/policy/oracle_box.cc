@@ -181,11 +181,11 @@ void ExpertPolicy::run_box_wait(const World& world, size_t box, double near) {
   const Vec3 outward = (wait - oracle_box::centre(X_WB)).normalized();
   const Vec3 ready = wait + oracle_box::kCreepDistance * outward;
   const Vec3 above = ready + Vec3(0, 0, 0.10);
-  if (phase_ == 0) {
+  if (!in_phase(BoxWaitPhase::kCreep)) {  // (the step begins here)
     speed_ = kMaxSpeed;
     const bool high = tcp.z() > above.z() - 0.03;
     target_.translation = high ? ready : above;
-    if (high && (tcp - ready).norm() < 2 * kReachedDistance) set_phase(1, world.time);
+    if (high && (tcp - ready).norm() < 2 * kReachedDistance) set_phase(BoxWaitPhase::kCreep, world.time);
     return;
   }
   speed_ = oracle_box::kCreepSpeed;
@@ -206,27 +206,30 @@ void ExpertPolicy::run_box_pick(const World& world, size_t k, size_t box) {
   const Vec3 tcp = world.X_WT.translation;
   const double w = grip_width(g.kind, g.half_extents);
   const double elapsed = world.time - phase_start_;
-  switch (phase_) {
-    case 0: {  // open, over the rim above the grasp (rising first when low and to the side)
+  switch (std::get<PickPhase>(phase_)) {
+    case PickPhase::kApproach: {  // open, over the rim above the grasp (rising first when low and to the side)
       gripper_ = 1.0;
       speed_ = kMaxSpeed;
       const double horizontal = (tcp - entry).head<2>().norm();
       target_.translation = horizontal > 0.02 && tcp.z() < entry.z() - 0.02 ? Vec3(tcp.x(), tcp.y(), entry.z()) : entry;
-      if ((tcp - entry).norm() < 2 * kReachedDistance) set_phase(1, world.time);
+      if ((tcp - entry).norm() < 2 * kReachedDistance) set_phase(PickPhase::kDescend, world.time);
       break;
     }
-    case 1:  // down into the box, the fingers pre-shaped just wider than the object
+    case PickPhase::kDescend:  // down into the box, the fingers pre-shaped just wider than the object
       gripper_ = std::min(1.0, (w + kPreshapeGap) / kMaxGripperWidth);
       speed_ = oracle_box::kDescentSpeed;
       target_.translation = grasp;
       if ((tcp - grasp).norm() < kReachedDistance / 2 || (elapsed > 2.0 && (tcp - grasp).norm() < 2 * kReachedDistance)) {
-        set_phase(2, world.time);
+        set_phase(PickPhase::kClose, world.time);
       }
       break;
-    case 2:  // squeeze (faster than on the table: the lid window is short), check the grip
-      squeeze(world, w, grasp, 0.0, oracle_box::kSqueezeRate, oracle_box::kGripTime);
+    case PickPhase::kClose: {  // squeeze (faster than on the table: the lid window is short), check the grip
+      const Grip grip = squeeze(world, w, grasp, 0.0, oracle_box::kSqueezeRate, oracle_box::kGripTime);
+      if (grip == Grip::kHolding) set_phase(PickPhase::kLift, world.time);
+      if (grip == Grip::kMissed) set_phase(PickPhase::kApproach, world.time);
       break;
-    default: {  // lift until the object is over the rim
+    }
+    case PickPhase::kLift: {  // lift until the object is over the rim
       gripper_ = 0.0;
       speed_ = kMaxSpeed;
       const double z = oracle_box::rim_z(X_WB) + 0.02 + (tcp.z() - world.objects[k].translation.z());

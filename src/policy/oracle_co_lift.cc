@@ -45,7 +45,6 @@ constexpr double kPartnerLead = 0.10;    // s: how far ahead of the person's end
 constexpr double kMaxLead = 0.04;        // m
 constexpr double kTremorSpeed = 0.12;    // m/s: palm speeds up to this lead nothing
 constexpr double kHoldingPalm = 0.15;    // m: a palm this close to the person's grip point holds it
-constexpr int kApproach = 40, kDescend = 41, kClose = 42, kHold = 43, kOpen = 44, kWithdraw = 45;
 
 // What a co-carry act's goal asks of the robot's end (nominal path of the baselines).
 enum class Stage { kGrasp, kLift, kOver, kOnto };
@@ -102,8 +101,9 @@ void ExpertPolicy::run_co_carry(const World& world, const PlanStep& step) {
   const Vec3 axis = -side * Vec3(std::cos(yaw0), std::sin(yaw0), 0);
 
   const bool holding = gripper_ < 0.5 && world.width > kHoldingWidth && (tcp - grip).norm() < 0.05;
-  if (phase_ < kApproach) set_phase(holding ? kHold : kApproach, world.time);
-  if (phase_ <= kClose) {
+  if (!in_skill<CoCarryPhase>()) set_phase(holding ? CoCarryPhase::kHold : CoCarryPhase::kApproach, world.time);
+  const CoCarryPhase phase = std::get<CoCarryPhase>(phase_);
+  if (phase == CoCarryPhase::kApproach || phase == CoCarryPhase::kDescend || phase == CoCarryPhase::kClose) {
     // Fingers across the object's width at the robot's end: of the two finger yaws that do
     // (pi apart), the one nearer the hand's yaw now. Wrapped about the home yaw instead, a plank
     // square to it sat on the wrap's edge: a turn of a hundredth of a degree flipped the target
@@ -117,43 +117,44 @@ void ExpertPolicy::run_co_carry(const World& world, const PlanStep& step) {
     target_.rotation = (core::axis_angle(Vec3::UnitZ(), yaw) * home_.rotation).normalized();
   }
   const Vec3 above = grip + Vec3(0, 0, kEndApproach);
-  switch (phase_) {
-    case kApproach: {  // open, go above the robot's end (rising first when low and far)
+  switch (phase) {
+    case CoCarryPhase::kApproach: {  // open, go above the robot's end (rising first when low and far)
       gripper_ = 1.0;
       speed_ = kTransitSpeed;
       const bool low_far = (tcp - above).head<2>().norm() > 0.03 && tcp.z() < above.z() - 0.03;
       target_.translation = low_far ? Vec3(tcp.x(), tcp.y(), above.z()) : above;
-      if ((tcp - above).norm() < 2 * kReachedDistance && world.width > 0.07) set_phase(kDescend, world.time);
+      if ((tcp - above).norm() < 2 * kReachedDistance && world.width > 0.07) set_phase(CoCarryPhase::kDescend, world.time);
       return;
     }
-    case kDescend:
+    case CoCarryPhase::kDescend:
       gripper_ = 1.0;
       speed_ = kFineSpeed * 1.5;
       target_.translation = grip;
-      if ((tcp - grip).norm() < kPreshapeFrom) set_phase(kClose, world.time);
+      if ((tcp - grip).norm() < kPreshapeFrom) set_phase(CoCarryPhase::kClose, world.time);
       return;
-    case kClose:  // pre-shape just wider than the width, squeeze slowly, check the grip
-      squeeze(world, 2 * half.y(), grip, kPreshapeTime + kEndSettle, kSqueezeRate, kCloseTime);
+    case CoCarryPhase::kClose: {  // pre-shape just wider than the width, squeeze slowly, check the grip
+      const Grip closed = squeeze(world, 2 * half.y(), grip, kPreshapeTime + kEndSettle, kSqueezeRate, kCloseTime);
       speed_ = kFineSpeed * 1.5;  // the rest of the descent
-      if (phase_ == 3) set_phase(kHold, world.time);      // holding
-      if (phase_ == 0) set_phase(kApproach, world.time);  // missed: again from above
+      if (closed == Grip::kHolding) set_phase(CoCarryPhase::kHold, world.time);
+      if (closed == Grip::kMissed) set_phase(CoCarryPhase::kApproach, world.time);  // again from above
       return;
-    case kOpen:
+    }
+    case CoCarryPhase::kOpen:
       gripper_ = 1.0;
       speed_ = 0;
       if (elapsed > kOpenTime) {
-        set_phase(kWithdraw, world.time);
+        set_phase(CoCarryPhase::kWithdraw, world.time);
         target_.translation = tcp + Vec3(0, 0, 0.12) - 0.08 * axis;  // up and back, off the object
       }
       return;
-    case kWithdraw:  // then done with the object: the rest of its co-carry steps too
+    case CoCarryPhase::kWithdraw:  // then done with the object: the rest of its co-carry steps too
       gripper_ = 1.0;
       speed_ = kFineSpeed * 2;
       for (size_t i = current_; i < plan_.size() && elapsed > 1.0; ++i) {
         if (plan_[i].kind == StepKind::kCoCarry && plan_[i].object == step.object) internal_done_[i] = 1;
       }
       return;
-    default:
+    case CoCarryPhase::kHold:
       break;
   }
 
@@ -227,7 +228,7 @@ void ExpertPolicy::run_co_carry(const World& world, const PlanStep& step) {
     // The person lets go (or, without a lowering act, the last act begins): so does the robot;
     // the last act's goal (the object resting, nobody holding it) needs that.
     if (lowering.empty() ? last : seen(lowering + ".release")) {
-      set_phase(kOpen, world.time);
+      set_phase(CoCarryPhase::kOpen, world.time);
       gripper_ = 1.0;
     }
     return;
@@ -272,7 +273,7 @@ void ExpertPolicy::run_co_carry(const World& world, const PlanStep& step) {
   }
   target_.translation = goal;
   const bool reached = (tcp - goal).norm() < 2 * kReachedDistance;
-  if (stage == Stage::kOnto && (reached || elapsed > 4.0)) set_phase(kOpen, world.time);
+  if (stage == Stage::kOnto && (reached || elapsed > 4.0)) set_phase(CoCarryPhase::kOpen, world.time);
   if (stage != Stage::kOnto && (reached || speed_ == 0)) internal_done_[current_] = 1;
 }
 

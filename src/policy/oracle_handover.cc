@@ -43,8 +43,6 @@ bool ExpertPolicy::starts_in_hand(const std::string& object) const {
   return false;
 }
 
-// Phases 40..44: wait short of the offered object (approach), come over its grasp point, down
-// to it, squeeze, grip, then hold it until the person lets go (the next step).
 namespace {
 // The palm centre of a hand held out to receive (0 left, 1 right): level with the wrist (the
 // hand is held level, palm up or turned in, however steeply the forearm comes down to it),
@@ -204,10 +202,12 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
   }
   const Vec3 toward = Vec3(grasp.x(), grasp.y(), 0).normalized();
   const Vec3 above = grasp + Vec3(0, 0, kTakeAbove);
-  if (phase_ < 40) set_phase(40, world.time);
+  if (!in_skill<TakePhase>()) set_phase(TakePhase::kApproach, world.time);
+  // Not yet closing on it: wait, come over it, come down to it.
+  const bool before_close = in_phase(TakePhase::kApproach) || in_phase(TakePhase::kDescend);
   const double elapsed = world.time - phase_start_;
   // Both fingers on it: the person may let go any moment (after 0.2 s), so close now.
-  const bool touching = predicate_true("grasped(robot, " + step.object + ")");
+  const bool touching = robot_grasps(step.object);
   // A head leaning in over the object: back off toward the base (not with the object between
   // the fingers: the grip is finished first).
   const Vec3 head = world.joints[static_cast<size_t>(human::index(human::Joint::kHead))];
@@ -240,14 +240,14 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
   // over the object). Closer, it backs off away from the head (never up; toward its base),
   // fast; otherwise it holds where it is while going on would bring them closer than that,
   // until the grip closes.
-  if (competence_ == Competence::kOracle && phase_ < 42) {
+  if (competence_ == Competence::kOracle && before_close) {
     const double head_radius = kTakeHeadRadius * body_.scale;
     const double clearance = step.kind == StepKind::kApproach ? kTakeHeadGap : kTakeHeadGapTaking;
     Vec3 away;
     const double gap = head_gap(world.X_WT, head, head_radius, away);
     if (step.kind == StepKind::kApproach && offered) internal_done_[current_] = 1;
     if (gap < clearance) {
-      if (phase_ == 41) set_phase(40, world.time);
+      if (in_phase(TakePhase::kDescend)) set_phase(TakePhase::kApproach, world.time);
       Vec3 dir = away;
       dir.z() = std::min(dir.z(), 0.0);
       if (tcp.z() < kTableZ + kTakeLowest) dir.z() = 0;
@@ -259,7 +259,7 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
       target_.translation = tcp + 0.10 * dir;
       return true;
     }
-    const Vec3 going = phase_ == 41 ? grasp : step.kind == StepKind::kApproach ? next : above;
+    const Vec3 going = in_phase(TakePhase::kDescend) ? grasp : step.kind == StepKind::kApproach ? next : above;
     if ((going - tcp).norm() > 1e-3) {
       Pose ahead = world.X_WT;
       ahead.translation = tcp + 0.02 * (going - tcp).normalized();
@@ -273,15 +273,15 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
       }
     }
   }
-  if (head_distance(tcp) < kTakeHeadClearance && head_distance(next) < head_distance(tcp) + 0.03 && phase_ < 42) {
-    if (phase_ == 41) set_phase(40, world.time);
+  if (head_distance(tcp) < kTakeHeadClearance && head_distance(next) < head_distance(tcp) + 0.03 && before_close) {
+    if (in_phase(TakePhase::kDescend)) set_phase(TakePhase::kApproach, world.time);
     gripper_ = 1.0;
     speed_ = kMaxSpeed;
     target_.translation = tcp - 0.10 * toward;
     return true;
   }
-  switch (phase_) {
-    case 40:  // approach: short of the object while the person reaches; take: over the grasp point
+  switch (std::get<TakePhase>(phase_)) {
+    case TakePhase::kApproach:  // approach: short of the object while the person reaches; take: over the grasp point
       gripper_ = 1.0;
       speed_ = kMaxSpeed;
       if (step.kind == StepKind::kApproach) {
@@ -290,9 +290,9 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
         break;
       }
       target_.translation = above;
-      if ((tcp - above).norm() < 3 * kReachedDistance && world.width > 0.07) set_phase(41, world.time);
+      if ((tcp - above).norm() < 3 * kReachedDistance && world.width > 0.07) set_phase(TakePhase::kDescend, world.time);
       break;
-    case 41: {  // down to the grasp point, open
+    case TakePhase::kDescend: {  // down to the grasp point, open
       gripper_ = 1.0;
       speed_ = kFineSpeed * 1.5;
       target_.translation = grasp;
@@ -310,12 +310,12 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
         target_.translation.z() = std::max(grasp.z(), top + kTakeFingertipsBelowTcp + kTakeRimClearance);
       }
       if ((tcp - grasp).norm() < kReachedDistance || (elapsed > 2.0 && (tcp - grasp).norm() < 0.02)) {
-        set_phase(42, world.time);
+        set_phase(TakePhase::kSqueeze, world.time);
       }
-      if (touching) set_phase(43, world.time);  // wedged on the way down: grip there
+      if (touching) set_phase(TakePhase::kGrip, world.time);  // wedged on the way down: grip there
       break;
     }
-    case 42: {  // pre-shape just wider than the object, then squeeze slowly until both fingers touch
+    case TakePhase::kSqueeze: {  // pre-shape just wider than the object, then squeeze slowly until both fingers touch
       // (the grasp ends the take act; the gripper must not be moving then, as the place may
       // start only once the person has let go)
       const double w = grip_width(g.kind, g.half_extents);
@@ -323,23 +323,24 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
       gripper_ = std::clamp(command / kMaxGripperWidth, 0.0, 1.0);
       speed_ = 0;
       target_.translation = grasp;
-      if (touching || command < w - kSqueezeDepth) set_phase(43, world.time);
+      if (touching || command < w - kSqueezeDepth) set_phase(TakePhase::kGrip, world.time);
       break;
     }
-    case 43:  // full grip force, then check that something is between the fingers
+    case TakePhase::kGrip:  // full grip force, then check that something is between the fingers
       gripper_ = 0.0;
       speed_ = 0;
       target_.translation = tcp;
       if (elapsed > kCloseTime) {
         if (world.width > kHoldingWidth) {
-          set_phase(44, world.time);
+          set_phase(TakePhase::kHold, world.time);
           internal_done_[current_] = 1;
         } else {
-          set_phase(40, world.time);  // missed: open and come in again
+          set_phase(TakePhase::kApproach, world.time);  // missed: open and come in again
         }
       }
       break;
-    default:  // holding, still, until the person lets go
+    case TakePhase::kHold:  // holding, still, until the person lets go
+    case TakePhase::kBackAway:  // (the place step's)
       gripper_ = 0.0;
       speed_ = 0;
       break;
@@ -347,23 +348,24 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
   return true;
 }
 
-// Phase 45: the object just taken from the hand, the person still close: first back toward
-// the robot's base (and a little lower), away from the person, then the place (phase 10).
+// TakePhase::kBackAway: the object just taken from the hand, the person still close: first
+// back toward the robot's base (and a little lower), away from the person, then the place
+// (PlacePhase::kCarry).
 bool ExpertPolicy::run_take_retreat(const World& world) {
   const Vec3 tcp = world.X_WT.translation;
   // (Only when the step begins holding it: a place step that must pick it first picks.)
-  if (phase_ == 0 && gripper_ < 0.5 && world.width > kHoldingWidth) {
-    set_phase(45, world.time);
+  if (in_phase(PickPhase::kApproach) && gripper_ < 0.5 && world.width > kHoldingWidth) {
+    set_phase(TakePhase::kBackAway, world.time);
     retreat_from_ = tcp;
   }
-  if (phase_ != 45) return false;
+  if (!in_phase(TakePhase::kBackAway)) return false;
   const Vec3 toward = Vec3(retreat_from_.x(), retreat_from_.y(), 0).normalized();
   const Vec3 back = retreat_from_ - kTakeRetreat * toward - Vec3(0, 0, 0.03);
   gripper_ = 0.0;
   speed_ = kFineSpeed * 2;
   target_.translation = back;
   if ((tcp - back).norm() < 2 * kReachedDistance || world.time - phase_start_ > 3.0) {
-    set_phase(10, world.time);
+    set_phase(PlacePhase::kCarry, world.time);
     return false;
   }
   return true;
@@ -419,9 +421,9 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
                               .value_or(world.palm(side));
   if (step.kind == StepKind::kOffer) {
     const bool holding = holds(world, k);
-    if (phase_ < 20) {
-      if (holding && (phase_ == 0 || phase_ >= 3)) {
-        set_phase(20, world.time);
+    if (in_skill<PickPhase>()) {
+      if (holding && (in_phase(PickPhase::kApproach) || in_phase(PickPhase::kLift))) {
+        set_phase(OfferPhase::kBring, world.time);
       } else {
         run_pick(world, step.object, true);
         internal_done_[current_] = 0;
@@ -538,16 +540,16 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     }
     if (palm_shown(side)) target_.translation = rise_first(tcp, target_.translation);
     // The oracle brings the object into a hand held out without a gesture only once the hand
-    // has been open for the receive act's `open` time (phase 21 from when it opened): the person
+    // has been open for the receive act's `open` time (OfferPhase::kHandOpen from when it opened): the person
     // closes it no earlier, and an object still coming in when it counts as delivered starts
     // the let-go before the grasp. Until then it stays kOfferHoverAbove over the palm.
     if (!palm_shown(side) && !receiver.empty() && competence_ == Competence::kOracle) {
-      if (phase_ == 20 && seen(receiver + ".open")) set_phase(21, world.time);
+      if (in_phase(OfferPhase::kBring) && seen(receiver + ".open")) set_phase(OfferPhase::kHandOpen, world.time);
       double open = 0;
       for (const auto& entry : episode_->acts) {
         if (entry.name == receiver) open = motion_number(entry.value, "open").value_or(0);
       }
-      if (phase_ == 20 || world.time - phase_start_ < open) {
+      if (in_phase(OfferPhase::kBring) || world.time - phase_start_ < open) {
         target_.translation.z() = std::max(target_.translation.z(), into.z() + kOfferHoverAbove);
       }
     }
@@ -561,18 +563,17 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
     }
     return;
   }
-  // Release once the hand holds it (or a second after the step's event), then withdraw.
-  if (phase_ < 30) set_phase(29, world.time);
+  // Release once the hand holds it (blind: at once), then withdraw.
+  if (!in_skill<ReleasePhase>()) set_phase(ReleasePhase::kWaitForHand, world.time);
   // Until the fingers are open: where the hand is, no farther (the last of the descent into the
   // palm would press the fingers onto the person's hand, whose friction then holds them shut).
-  if (phase_ <= 30) target_.translation = tcp;
-  if (phase_ == 29) {
+  if (!in_phase(ReleasePhase::kWithdraw)) target_.translation = tcp;
+  if (in_phase(ReleasePhase::kWaitForHand)) {
     gripper_ = 0.0;
     speed_ = kFineSpeed;
     // Blind does not watch the hand: it lets go as soon as the step begins.
-    if (competence_ == Competence::kBlind || human_holds(step.object) ||
-        world.time - phase_start_ > 1.0) {
-      set_phase(30, world.time);
+    if (competence_ == Competence::kBlind || human_holds(step.object)) {
+      set_phase(ReleasePhase::kOpen, world.time);
     }
     return;
   }
@@ -580,12 +581,12 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
   // The oracle draws its fingers out of the hand as soon as they are open clear of the object
   // (the person may pull the hand back at once), up as much as back.
   const bool oracle = competence_ == Competence::kOracle;
-  if (phase_ == 30) {
+  if (in_phase(ReleasePhase::kOpen)) {
     gripper_ = 1.0;
     speed_ = kFineSpeed;
     const bool clear = oracle && elapsed > kOfferOpenAtLeast &&
                        world.width > grip_width(objects_[k].kind, objects_[k].half_extents) + kOfferFingersClear;
-    if (elapsed > kOpenTime || clear) set_phase(31, world.time);
+    if (elapsed > kOpenTime || clear) set_phase(ReleasePhase::kWithdraw, world.time);
   } else {
     gripper_ = 1.0;
     speed_ = kFineSpeed * 2;
@@ -595,21 +596,18 @@ void ExpertPolicy::run_handover(const World& world, const PlanStep& step) {
   }
 }
 
-bool ExpertPolicy::predicate_true(const std::string& name) const {
-  for (const auto& [logged, value] : predicates_) {
-    if (logged == name) return value;
-  }
-  return false;
+bool ExpertPolicy::robot_grasps(const std::string& object) const {
+  const int k = static_cast<int>(index_of(objects_, object));
+  return std::any_of(predicates_.begin(), predicates_.end(), [&](const LoggedPredicate& p) {
+    return p.value && p.holding && p.holding->robot_grasps(k);
+  });
 }
 
 bool ExpertPolicy::human_holds(const std::string& object) const {
-  for (const auto& [name, value] : predicates_) {
-    if (value && name.rfind("held(human.", 0) == 0 && name.find(", " + object + ")") != std::string::npos &&
-        name.find(' ', name.find(')')) == std::string::npos) {
-      return true;
-    }
-  }
-  return false;
+  const int k = static_cast<int>(index_of(objects_, object));
+  return std::any_of(predicates_.begin(), predicates_.end(), [&](const LoggedPredicate& p) {
+    return p.value && p.holding && p.holding->human_holds(k);
+  });
 }
 
 namespace {

@@ -67,8 +67,8 @@ void ExpertPolicy::run_pick(const World& world, const std::string& object, bool 
   const double above_z = std::max(grasp.z() + kApproachHeight, top + 0.06);
   const Vec3 tcp = world.X_WT.translation;
   const double elapsed = world.time - phase_start_;
-  switch (phase_) {
-    case 0: {  // open, go above the grasp (rising first when low and far)
+  switch (std::get<PickPhase>(phase_)) {
+    case PickPhase::kApproach: {  // open, go above the grasp (rising first when low and far)
       gripper_ = 1.0;
       speed_ = kMaxSpeed;
       const Vec3 above(grasp.x(), grasp.y(), above_z);
@@ -76,25 +76,30 @@ void ExpertPolicy::run_pick(const World& world, const std::string& object, bool 
       target_.translation = horizontal > 0.03 && tcp.z() < above_z - 0.03
                                 ? Vec3(tcp.x(), tcp.y(), above_z)
                                 : above;
-      if ((tcp - above).norm() < 2 * kReachedDistance && world.width > 0.07) set_phase(1, world.time);
+      if ((tcp - above).norm() < 2 * kReachedDistance && world.width > 0.07) {
+        set_phase(PickPhase::kDescend, world.time);
+      }
       break;
     }
-    case 1:  // descend onto the grasp
+    case PickPhase::kDescend:  // descend onto the grasp
       gripper_ = 1.0;
       speed_ = kFineSpeed * 1.5;
       target_.translation = grasp;
       if ((tcp - grasp).norm() < kReachedDistance / 2 ||
           (elapsed > 3.0 && (tcp - grasp).norm() < 2 * kReachedDistance)) {
-        if (close) set_phase(2, world.time);
+        if (close) set_phase(PickPhase::kClose, world.time);
       }
       break;
-    case 2:  // close on the object, then check that something is between the fingers
+    case PickPhase::kClose: {  // close on the object, then check that something is between the fingers
       // Pre-shape just wider than the object, then squeeze: the fingers touch it slowly (the
       // grasp, which ends an act, is not in the middle of a fast gripper motion).
-      squeeze(world, on_side ? 2 * g.half_extents.x() : grip_width(g.kind, g.half_extents), grasp, kPreshapeTime,
-              kSqueezeRate, kCloseTime);
+      const Grip grip = squeeze(world, on_side ? 2 * g.half_extents.x() : grip_width(g.kind, g.half_extents), grasp,
+                                kPreshapeTime, kSqueezeRate, kCloseTime);
+      if (grip == Grip::kHolding) set_phase(PickPhase::kLift, world.time);
+      if (grip == Grip::kMissed) set_phase(PickPhase::kApproach, world.time);
       break;
-    default: {  // lift clear
+    }
+    case PickPhase::kLift: {  // lift clear
       gripper_ = 0.0;
       speed_ = kMaxSpeed * 0.6;
       target_.translation = Vec3(grasp.x(), grasp.y(), above_z + 0.05);
@@ -104,21 +109,15 @@ void ExpertPolicy::run_pick(const World& world, const std::string& object, bool 
   }
 }
 
-void ExpertPolicy::squeeze(const World& world, double width, const Vec3& grasp, double preshape,
-                           double rate, double grip) {
+ExpertPolicy::Grip ExpertPolicy::squeeze(const World& world, double width, const Vec3& grasp, double preshape,
+                                         double rate, double grip) {
   const double elapsed = world.time - phase_start_;
   const double command = width + kPreshapeGap - rate * std::max(0.0, elapsed - preshape);
   gripper_ = command > width - kSqueezeDepth ? std::min(1.0, command / kMaxGripperWidth) : 0.0;
   speed_ = 0;
   target_.translation = grasp;
-  if (elapsed > preshape + (kPreshapeGap + kSqueezeDepth) / rate + grip) {
-    if (world.width > kHoldingWidth) {
-      set_phase(3, world.time);
-    } else {
-      ++retries_;
-      set_phase(0, world.time);
-    }
-  }
+  if (elapsed <= preshape + (kPreshapeGap + kSqueezeDepth) / rate + grip) return Grip::kClosing;
+  return world.width > kHoldingWidth ? Grip::kHolding : Grip::kMissed;
 }
 
 bool ExpertPolicy::holds(const World& world, size_t k) const {
@@ -133,18 +132,19 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
   const Vec3 tcp = world.X_WT.translation;
   const bool holding = holds(world, k);
   // Not holding it yet (or lost it before the release): pick it first.
-  if (phase_ < 10) {
-    if (holding && (phase_ == 0 || phase_ >= 3)) {  // already holding it, or lifting it
-      set_phase(10, world.time);
+  if (in_skill<PickPhase>()) {
+    if (holding && (in_phase(PickPhase::kApproach) || in_phase(PickPhase::kLift))) {  // already holding it, or lifting it
+      set_phase(PlacePhase::kCarry, world.time);
     } else {
       run_pick(world, step.object, true);
       internal_done_[current_] = 0;
-      if (phase_ == 3 && holding) set_phase(10, world.time);
+      if (in_phase(PickPhase::kLift) && holding) set_phase(PlacePhase::kCarry, world.time);
       return;
     }
   }
-  if (phase_ < 12 && !holding) {
-    set_phase(0, world.time);
+  const PlacePhase phase = std::get<PlacePhase>(phase_);
+  if ((phase == PlacePhase::kCarry || phase == PlacePhase::kLower) && !holding) {
+    set_phase(PickPhase::kApproach, world.time);
     run_pick(world, step.object, true);
     internal_done_[current_] = 0;
     return;
@@ -163,7 +163,7 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
     if (competence_ != Competence::kOracle && latched_target_valid_) origin = latched_target_;
     const ObjectGeometry& cg = objects_[c];
     // A free spot on the target, chosen when the carry begins (the oracle: again each time).
-    if (phase_ == 10 && (!spot_valid_ || world.time == phase_start_)) {
+    if (phase == PlacePhase::kCarry && (!spot_valid_ || world.time == phase_start_)) {
       Pose X_WC = world.objects[c];
       X_WC.translation = origin;
       spot_ = free_spot(world, k, c, X_WC);
@@ -192,7 +192,7 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
   const Vec3 bottom = on_side ? Vec3(lying_grasp(world.objects[k], objects_[k].half_extents) -
                                      Vec3(0, 0, objects_[k].half_extents.x()))
                               : world.objects[k].translation;
-  if (on_side && container_top > 0 && (phase_ == 10 || phase_ == 11)) {
+  if (on_side && container_top > 0 && (phase == PlacePhase::kCarry || phase == PlacePhase::kLower)) {
     const Vec3 axis = world.objects[k].rotation * Vec3::UnitZ();
     const Vec3 length = world.objects[index_of(objects_, step.target)].rotation * Vec3::UnitX();
     const double turn = wrap_half_turn(std::atan2(length.y(), length.x()) - std::atan2(axis.y(), axis.x()));
@@ -206,18 +206,18 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
   const double carry_z = top + kCarryClearance + offset.z();
   const Vec3 over(place_xy.x() + offset.x(), place_xy.y() + offset.y(), carry_z);
   const double elapsed = world.time - phase_start_;
-  switch (phase_) {
-    case 10: {  // carry over the target (rising first when low and far)
+  switch (phase) {
+    case PlacePhase::kCarry: {  // carry over the target (rising first when low and far)
       gripper_ = 0.0;
       speed_ = kMaxSpeed;
       const double horizontal = (tcp - over).head<2>().norm();
       target_.translation = horizontal > 0.03 && tcp.z() < carry_z - 0.03
                                 ? Vec3(tcp.x(), tcp.y(), carry_z)
                                 : over;
-      if ((tcp - over).norm() < 2 * kReachedDistance) set_phase(11, world.time);
+      if ((tcp - over).norm() < 2 * kReachedDistance) set_phase(PlacePhase::kLower, world.time);
       break;
     }
-    case 11: {  // lower onto the surface
+    case PlacePhase::kLower: {  // lower onto the surface
       gripper_ = 0.0;
       speed_ = kFineSpeed;
       // Into a container only as far as the hand housing stays above its walls.
@@ -233,15 +233,15 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
       // while a separation stop holds the robot more than 3 cm above `down` (no release from
       // a height).
       if (ssm_stopped_ && (tcp - down).norm() > 0.03) phase_start_ += world.dt;
-      if ((tcp - down).norm() < kReachedDistance / 2 || elapsed > 4.0) set_phase(12, world.time);
+      if ((tcp - down).norm() < kReachedDistance / 2 || elapsed > 4.0) set_phase(PlacePhase::kRelease, world.time);
       break;
     }
-    case 12:  // release
+    case PlacePhase::kRelease:
       gripper_ = 1.0;
       speed_ = 0;
-      if (elapsed > kOpenTime) set_phase(13, world.time);
+      if (elapsed > kOpenTime) set_phase(PlacePhase::kWithdraw, world.time);
       break;
-    default: {  // withdraw upward
+    case PlacePhase::kWithdraw: {  // upward
       gripper_ = 1.0;
       speed_ = kMaxSpeed * 0.5;
       target_.translation = Vec3(tcp.x(), tcp.y(), std::max(tcp.z(), top + 0.10));
@@ -250,7 +250,7 @@ void ExpertPolicy::run_place(const World& world, const PlanStep& step) {
         if (ended || competence_ != Competence::kOracle) {
           internal_done_[current_] = 1;
         } else {
-          set_phase(0, world.time);  // the goal does not hold: do it again from the live poses
+          set_phase(PickPhase::kApproach, world.time);  // the goal does not hold: again from the live poses
         }
       }
       break;

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "human/primitives.h"
+#include "script/catalogue.h"
 #include "script/phases.h"
 #include "script/predicate.h"
 #include "script/schema_io.h"
@@ -969,14 +970,21 @@ std::vector<Problem> to_problems(const std::vector<core::InputError>& errors) {
 }  // namespace
 
 const std::vector<std::string>& object_kinds() {
-  static const std::vector<std::string> kinds = {"cube", "cup", "bottle", "plate", "bin",
-                                                 "tray", "box", "plank", "platform"};
+  static const std::vector<std::string> kinds = [] {
+    std::vector<std::string> names;
+    for (const ObjectKindEntry& kind : catalogue_kinds()) names.emplace_back(kind.name);
+    names.emplace_back(kPlatformKind);
+    return names;
+  }();
   return kinds;
 }
 
 const std::vector<std::string>& object_colors() {
-  static const std::vector<std::string> colors = {"red", "green", "blue", "yellow", "orange", "purple",
-                                                  "white", "black", "gray", "brown", "pink", "cyan"};
+  static const std::vector<std::string> colors = [] {
+    std::vector<std::string> names;
+    for (const ColourEntry& colour : catalogue_colours()) names.emplace_back(colour.name);
+    return names;
+  }();
   return colors;
 }
 

@@ -394,6 +394,15 @@ bool evaluate(const BoundPredicate& predicate, const WorldSnapshot& world, Predi
   return eval(predicate.root, world, memory);
 }
 
+std::optional<HoldingAtom> holding_atom(const Predicate& predicate) {
+  if (predicate.atom != Atom::kGrasped && predicate.atom != Atom::kHeld && predicate.atom != Atom::kHeldFor) {
+    return std::nullopt;
+  }
+  // (Bound: the holder is the first argument, the object the second.)
+  HRIB_CHECK(predicate.args.size() >= 2 && predicate.args[1].kind == Kind::kObject) << static_cast<int>(predicate.atom);
+  return HoldingAtom{predicate.atom, predicate.args[0], predicate.args[1].index};
+}
+
 std::vector<std::string> predicate_names() {
   std::vector<std::string> names;
   for (const Signature& s : signatures()) names.emplace_back(s.name);

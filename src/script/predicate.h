@@ -29,6 +29,7 @@
 //   tilt(o) < deg            angle between o's z axis and world z, degrees ('<' or '>')
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -83,6 +84,24 @@ struct BoundPredicate {
 // Parses and type-checks `source` against the scene's object names. Throws InputError with
 // an empty where() (the caller knows the location) describing the first problem.
 BoundPredicate bind_predicate(std::string_view source, const std::vector<std::string>& objects);
+
+// Who holds which object, as a predicate says it: the typed reading of a single atom
+// grasped(robot, o), held(human.H, o) or held_for(A, o, s), for code that asks about logged
+// predicates (their names are predicate text: bind them with bind_predicate) instead of
+// building or matching their text.
+struct HoldingAtom {
+  Atom atom = Atom::kGrasped;  // kGrasped | kHeld | kHeldFor
+  Arg holder;                  // Arg::Kind::kRobot, kHand (index: Hand) or kAnyHand
+  int object = 0;              // index into the object names the predicate was bound against
+
+  // Whether it says that the robot grasps object `o` (grasped(robot, o)).
+  bool robot_grasps(int o) const { return atom == Atom::kGrasped && object == o; }
+  // Whether it says that a human hand (one, or any) holds object `o` (held(human.H, o)).
+  bool human_holds(int o) const { return atom == Atom::kHeld && object == o; }
+};
+// The holding atom `predicate` is, nullopt for any other predicate, also for a holding atom
+// within not/and/or ("held(human.any, cup) and not grasped(robot, cup)").
+std::optional<HoldingAtom> holding_atom(const Predicate& predicate);
 
 // What a predicate remembers between steps (one per bound predicate and per episode).
 struct PredicateMemory {

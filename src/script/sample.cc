@@ -6,6 +6,7 @@
 #include "core/hash.h"
 #include "core/json.h"
 #include "human/primitives.h"
+#include "script/catalogue.h"
 #include "script/check.h"
 #include "script/phases.h"
 #include "script/schema_io.h"
@@ -72,20 +73,12 @@ void draw_vars(const Named<Any>& defs, const core::Rng& rng, VarTable& table, Na
   }
 }
 
-// Radius of the circle around an object's footprint (m), any yaw: the model's nominal sizes
-// (model/objects.cc), or a platform's explicit size; 0 for an unknown kind.
+// Radius of the circle around an object's footprint (m), any yaw: the catalogue's size of its
+// kind, or a platform's explicit size; 0 for an unknown kind.
 double footprint_radius(const SceneObject& o) {
-  const std::string& kind = o.kind.value();
   if (o.size.size() >= 2) return 0.5 * std::hypot(o.size[0].value(), o.size[1].value());
-  if (kind == "cube") return std::hypot(0.025, 0.025);
-  if (kind == "cup") return 0.035;
-  if (kind == "bottle") return 0.032;
-  if (kind == "plate") return 0.1;
-  if (kind == "bin") return std::hypot(0.12, 0.09);
-  if (kind == "tray") return std::hypot(0.15, 0.11);
-  if (kind == "box") return std::hypot(0.1, 0.08);
-  if (kind == "plank") return std::hypot(0.3, 0.03);
-  return 0;
+  const ObjectKindEntry* kind = find_kind(o.kind.value());
+  return kind ? script::footprint_radius(*kind) : 0;
 }
 
 // Distractor objects with drawn kinds, colours and table positions: their footprint circles
@@ -100,8 +93,10 @@ void draw_distractors(EpisodeSpec& spec, const Distractors& d, core::Rng rng) {
   for (int i = 1; i <= count; ++i) {
     SceneObject o;
     o.kind = Text(kinds[static_cast<size_t>(rng.uniform_int(0, static_cast<int64_t>(kinds.size()) - 1))].c_str());
-    const auto& colors = object_colors();
-    o.color = Text(colors[static_cast<size_t>(rng.uniform_int(0, static_cast<int64_t>(colors.size()) - 1))].c_str());
+    const auto& colours = catalogue_colours();
+    o.color = Text(
+        std::string(colours[static_cast<size_t>(rng.uniform_int(0, static_cast<int64_t>(colours.size()) - 1))].name)
+            .c_str());
     const double radius = footprint_radius(o);
     ObjectPose pose;
     double x = 0, y = 0;

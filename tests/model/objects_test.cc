@@ -4,10 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
+#include "core/errors.h"
 #include "model/mjcf.h"
 #include "model/model.h"
+#include "script/catalogue.h"
 #include "support/mujoco_fixture.h"
 
 namespace hribench::model {
@@ -59,6 +62,57 @@ GeomBox geom_box_in(const mjModel& m, const mjData& d, int g, const core::Pose& 
   return {X_FW * p_W, half};
 }
 
+// The model builds every kind of the catalogue (script/catalogue.h), in ObjectKind order, at the
+// catalogue's size, and colours objects by the catalogue's names.
+TEST(ObjectCatalogue, TheModelsKindsAndColoursAreTheCatalogues) {
+  ASSERT_EQ(script::catalogue_kinds().size(), static_cast<size_t>(kNumObjectKinds));
+  for (int i = 0; i < kNumObjectKinds; ++i) {
+    const auto kind = static_cast<ObjectKind>(i);
+    const script::ObjectKindEntry& entry = script::catalogue_kinds()[static_cast<size_t>(i)];
+    EXPECT_EQ(to_string(kind), entry.name);
+    EXPECT_EQ(object_kind_from_name(entry.name), kind);
+    EXPECT_EQ(mjcf::nominal_half_extents(kind), entry.half_extents) << entry.name;
+  }
+  EXPECT_EQ(object_kind_from_name("platform"), std::nullopt);  // sized by the script, not a kind
+  ASSERT_EQ(colour_names().size(), script::catalogue_colours().size());
+  for (const script::ColourEntry& c : script::catalogue_colours()) {
+    const std::optional<Rgba> rgba = colour_from_name(c.name);
+    ASSERT_TRUE(rgba) << c.name;
+    EXPECT_EQ(rgba->r, c.rgba[0]);
+    EXPECT_EQ(rgba->a, 1.0f);
+  }
+  // One spelling; the old one still reads as it.
+  EXPECT_EQ(std::count(colour_names().begin(), colour_names().end(), "gray"), 1);
+  EXPECT_EQ(std::count(colour_names().begin(), colour_names().end(), "grey"), 0);
+  ASSERT_TRUE(colour_from_name("grey"));
+  EXPECT_EQ(colour_from_name("grey")->g, colour_from_name("gray")->g);
+}
+
+TEST_F(ObjectsTest, UnknownKindAndColourNameTheCataloguesChoices) {
+  SceneSpec spec;
+  spec.human.present = false;
+  ObjectSpec o;
+  o.kind = "sphere";
+  spec.objects = {o};
+  try {
+    build(spec);
+    FAIL() << "built a sphere";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "scene.objects[0].kind: expected one of cube, cup, bottle, plate, bin, tray, box, plank, got 'sphere'");
+  }
+  spec.objects[0].kind = "cube";
+  spec.objects[0].colour = "magenta";
+  try {
+    build(spec);
+    FAIL() << "built a magenta cube";
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "scene.objects[0].colour: expected one of red, green, blue, yellow, orange, purple, white, black, "
+              "gray, brown, pink, cyan, got 'magenta'");
+  }
+}
+
 TEST_F(ObjectsTest, SizesAndMassesScale) {
   SceneSpec spec;
   spec.human.present = false;
@@ -77,10 +131,9 @@ TEST_F(ObjectsTest, SizesAndMassesScale) {
 TEST_F(ObjectsTest, GeomsLieInsideTheDeclaredBoundingBox) {
   SceneSpec spec;
   spec.human.present = false;
-  const char* kinds[] = {"cube", "cup", "bottle", "plate", "bin", "tray", "box", "plank"};
-  for (const char* kind : kinds) {
+  for (const script::ObjectKindEntry& kind : script::catalogue_kinds()) {
     ObjectSpec o;
-    o.kind = kind;
+    o.kind = std::string(kind.name);
     o.x = 0.5;
     spec.objects = {o};
     const Model model = build(spec);
@@ -99,13 +152,13 @@ TEST_F(ObjectsTest, GeomsLieInsideTheDeclaredBoundingBox) {
       if (model.geom_tags[static_cast<size_t>(g)].owner != GeomOwner::kObject) continue;
       const GeomBox box = geom_box_in(*m, *d, g, X_OW);
       for (int i = 0; i < 3; ++i) {
-        const std::string where = std::string(kind) + " geom " + std::to_string(g);
+        const std::string where = std::string(kind.name) + " geom " + std::to_string(g);
         EXPECT_GT(box.centre[i] - box.half[i], lo[i] - 1e-3) << where << " axis " << i;
         EXPECT_LT(box.centre[i] + box.half[i], hi[i] + 1e-3) << where << " axis " << i;
       }
       ++checked;
     }
-    EXPECT_GT(checked, 0) << kind;
+    EXPECT_GT(checked, 0) << kind.name;
     if (info.kind == ObjectKind::kBox) {
       // The lid opens upward: at 1 rad its free edge is above the closed lid.
       const int lid = info.lid_body;

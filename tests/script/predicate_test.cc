@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
+#include <string>
+
 #include "core/errors.h"
 
 namespace hribench::script {
@@ -152,6 +155,56 @@ TEST(PredicateTest, CompoundsKeepChildMemoriesCurrent) {
   w.home_distance = 1;
   w.time = 0.1;
   EXPECT_TRUE(evaluate(p, w, m));
+}
+
+// What a logged predicate says about holding, asked typed: grasped(robot, o), held(human.H, o)
+// and held_for(A, o, s) alone; nothing for other atoms or for a holding atom within not/and/or.
+TEST(PredicateTest, HoldingAtomsAreReadTyped) {
+  const auto holding = [](const std::string& source) { return holding_atom(bind_predicate(source, kObjects).root); };
+  const std::optional<HoldingAtom> grasp = holding("grasped(robot, bin)");
+  ASSERT_TRUE(grasp);
+  EXPECT_EQ(grasp->atom, Atom::kGrasped);
+  EXPECT_EQ(grasp->holder.kind, Arg::Kind::kRobot);
+  EXPECT_EQ(grasp->object, 1);
+  EXPECT_TRUE(grasp->robot_grasps(1));
+  EXPECT_FALSE(grasp->robot_grasps(0));
+  EXPECT_FALSE(grasp->human_holds(1));
+
+  const std::optional<HoldingAtom> left = holding("held(human.left, plate)");
+  ASSERT_TRUE(left);
+  EXPECT_EQ(left->holder.kind, Arg::Kind::kHand);
+  EXPECT_EQ(left->holder.index, kLeftHand);
+  EXPECT_TRUE(left->human_holds(2));
+  EXPECT_FALSE(left->robot_grasps(2));
+  const std::optional<HoldingAtom> any = holding("held(human.any, cup)");
+  ASSERT_TRUE(any);
+  EXPECT_EQ(any->holder.kind, Arg::Kind::kAnyHand);
+  EXPECT_TRUE(any->human_holds(0));
+  // Written without spaces, it is the same atom.
+  const std::optional<HoldingAtom> tight = holding("held(human.right,box)");
+  ASSERT_TRUE(tight);
+  EXPECT_EQ(tight->holder.index, kRightHand);
+  EXPECT_TRUE(tight->human_holds(3));
+
+  const std::optional<HoldingAtom> held_for = holding("held_for(robot, cup, 0.5)");
+  ASSERT_TRUE(held_for);
+  EXPECT_EQ(held_for->atom, Atom::kHeldFor);
+  EXPECT_FALSE(held_for->robot_grasps(0));  // grasped(robot, cup) asks for the atom itself
+  EXPECT_FALSE(held_for->human_holds(0));
+
+  EXPECT_FALSE(holding("in(cup, bin)"));
+  EXPECT_FALSE(holding("held(human.any, cup) and not grasped(robot, cup)"));
+  EXPECT_FALSE(holding("not grasped(robot, cup)"));
+  EXPECT_FALSE(holding("(grasped(robot, cup)) or at_home(robot)"));
+}
+
+// Text that is not a predicate of the episode fails to bind before anything is asked of it.
+TEST(PredicateTest, HoldingAtomsOfBadTextFailWithTheArgumentExpected) {
+  EXPECT_EQ(error_of("held(robot, cup)"),
+            ": expected human.left|right|any as argument 1 of held(human.left|right|any, OBJECT), got 'robot'");
+  EXPECT_EQ(error_of("grasped(robot, mug)"),
+            ": expected a scene object as argument 2 of grasped(robot, OBJECT) (scene objects: cup, bin, plate, box), "
+            "got 'mug'");
 }
 
 }  // namespace
