@@ -21,12 +21,15 @@ struct EpisodeResult {
   std::string task;
   std::string role;    // "instructor" | "collaborator" | "intruder"
   std::string policy;
+  std::string robot;   // the robot description's name (model/robot.h), e.g. "panda"
   std::string spec_hash;
   uint64_t seed = 0;
   core::EpisodeStatus status = core::EpisodeStatus::kOk;
   std::string status_reason;
   EpisodeMetrics metrics;
 };
+// The log's identity and status with `metrics`. Logs do not name their robot yet: every
+// episode runs the default robot (model::kDefaultRobot) until EpisodeLog records it.
 EpisodeResult make_result(const EpisodeLog& log, EpisodeMetrics metrics);
 
 // A value with its 95 % interval over `n` episodes.

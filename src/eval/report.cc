@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -13,6 +14,7 @@
 #include "core/errors.h"
 #include "core/json.h"
 #include "core/version.h"
+#include "model/robot.h"
 
 namespace hribench::eval {
 namespace {
@@ -87,6 +89,15 @@ core::EpisodeStatus status_from_string(const std::string& name, const std::strin
   throw core::InputError(where, "ok, invalid or policy_error", "'" + name + "'");
 }
 
+// The robots of a run's episodes, sorted, each once (provenance: derived, not stored).
+std::vector<std::string> run_robots(const RunResults& run) {
+  std::vector<std::string> names;
+  for (const EpisodeResult& r : run.episodes) names.push_back(r.robot);
+  std::sort(names.begin(), names.end());
+  names.erase(std::unique(names.begin(), names.end()), names.end());
+  return names;
+}
+
 }  // namespace
 
 RunInfo current_run_info(std::string renderer, nlohmann::json options,
@@ -119,6 +130,7 @@ json episode_to_json(const EpisodeResult& r) {
       {"task", r.task},
       {"role", r.role},
       {"policy", r.policy},
+      {"robot", r.robot},
       {"spec_hash", r.spec_hash},
       {"seed", r.seed},
       {"status", std::string(core::to_string(r.status))},
@@ -160,6 +172,8 @@ EpisodeResult episode_from_json(const json& j, const std::string& where) {
   r.task = f.string("task");
   r.role = f.string("role");
   r.policy = f.string("policy");
+  // Results written before episodes named their robot are all the Panda's.
+  r.robot = j.contains("robot") ? f.string("robot") : std::string(model::kDefaultRobot);
   r.spec_hash = f.string("spec_hash");
   r.seed = f.unsigned_integer("seed");
   r.status = status_from_string(f.string("status"), f.where("status"));
@@ -257,7 +271,8 @@ json results_to_json(const RunResults& run) {
        {{"hribench_version", run.info.hribench_version},
         {"git_hash", run.info.git_hash},
         {"mujoco_version", run.info.mujoco_version},
-        {"renderer", run.info.renderer}}},
+        {"renderer", run.info.renderer},
+        {"robots", run_robots(run)}}},
       {"options", run.info.options},
       {"metric_constants", constants},
       {"episodes", episodes},
@@ -355,9 +370,11 @@ std::vector<GroupSummary> roles_then_overall(const RunResults& run) {
 std::string summary_markdown(const RunResults& run) {
   const std::vector<GroupSummary> rows = roles_then_overall(run);
   std::string md = "# HRIBench results\n\n";
-  md += fmt::format("HRIBench {} (git {}), MuJoCo {}, renderer: {}; {} episodes. Options: `{}`.\n\n",
+  std::string robots;
+  for (const std::string& name : run_robots(run)) robots += (robots.empty() ? "" : ", ") + name;
+  md += fmt::format("HRIBench {} (git {}), MuJoCo {}, renderer: {}, robot: {}; {} episodes. Options: `{}`.\n\n",
                     run.info.hribench_version, run.info.git_hash, run.info.mujoco_version,
-                    run.info.renderer, run.episodes.size(), run.info.options.dump());
+                    run.info.renderer, robots, run.episodes.size(), run.info.options.dump());
   md += "Rates (CSR, CFR, CIR, DSR) with Wilson 95 % intervals; other metrics: mean with "
         "bootstrap 95 % intervals over episodes; — = not applicable.\n\n";
   md += "## Headline\n\n";

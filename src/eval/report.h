@@ -4,6 +4,8 @@
 // CT | Rsp | TSync | OC | Safety — the component table, per-task tables and failure counts),
 // and a table comparing several runs (`hribench report runs/A runs/B`).
 //
+// Each episode names its robot (a robot description, model/robot.h); the provenance lists the
+// run's robots (derived from its episodes when written, not read back).
 // Episodes serialize one by one (episode_to_json) so a runner can append them to a JSON-lines
 // file as they finish; results.json holds them all. Doubles are written with round-trip
 // precision, so reloaded results re-aggregate identically.

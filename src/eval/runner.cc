@@ -221,9 +221,8 @@ policy::Observation observe(const Episode& e, const policy::PolicySpec& spec,
   policy::Observation obs;
   obs.time = s.time;
   obs.instruction = instruction;
-  const sim::ArmVector qd = sim::arm_joint_velocities(e.model, e.data);
-  std::copy_n(s.joint_pos.begin(), policy::kArmJoints, obs.proprio.joint_pos.begin());
-  std::copy(qd.begin(), qd.end(), obs.proprio.joint_vel.begin());
+  obs.proprio.joint_pos = sim::arm_joint_positions(e.model, e.data);
+  obs.proprio.joint_vel = sim::arm_joint_velocities(e.model, e.data);
   obs.proprio.gripper_width = s.gripper_width;
   obs.proprio.X_WT = s.X_WE;
   if (spec.state_track) {
@@ -262,11 +261,11 @@ void apply_action(const model::Model& model, sim::Data& data, policy::ActionSpac
     delta.rotation = core::Vec3(a[3], a[4], a[5]);
     sim::apply_ee_delta(model, data, delta);
   } else {
-    sim::ArmVector q{};
-    std::copy_n(a.begin(), model::kArmDof, q.begin());
+    sim::ArmVector q(model.robot.dof());
+    std::copy_n(a.begin(), q.size(), q.begin());
     sim::set_joint_targets(model, data, q);
   }
-  sim::set_gripper_width(model, data, a.back() * model::kGripperMaxWidth);
+  sim::set_gripper_width(model, data, a.back() * model.robot.gripper.max_width());
 }
 
 }  // namespace
@@ -284,6 +283,7 @@ EpisodeLog run_episode(const model::Model& model, sim::Data& data, policy::Polic
     throw core::InputError("horizon", "a positive number of seconds", fmt::format("{}", options.horizon));
   }
   const policy::PolicySpec spec = policy.spec();
+  const policy::ActionLimits limits = policy::action_limits(model.robot);
   Cameras cameras = make_cameras(model, spec, setup.policy, options.render_backend);
   const double eps = options.constants.time_epsilon;
 
@@ -329,7 +329,8 @@ EpisodeLog run_episode(const model::Model& model, sim::Data& data, policy::Polic
   };
 
   policy::EpisodeInfo info{setup.task, setup.instruction, setup.seed, options.horizon,
-                           options.control_dt, spec.privileged ? driver.episode() : nullptr};
+                           options.control_dt, model.robot.name,
+                           spec.privileged ? driver.episode() : nullptr};
   try {
     policy.reset(info);
   } catch (const std::exception& ex) {
@@ -351,7 +352,7 @@ EpisodeLog run_episode(const model::Model& model, sim::Data& data, policy::Polic
       const auto start = std::chrono::steady_clock::now();
       try {
         chunk = policy.act(obs);
-        policy::validate_chunk(chunk, spec.action_space, options.limits);
+        policy::validate_chunk(chunk, spec.action_space, limits);
       } catch (const std::exception& ex) {
         end_with(core::EpisodeStatus::kPolicyError, ex.what());
         return log;

@@ -89,7 +89,6 @@ struct RunOptions {
   Latency latency;
   bool stop_on_success = true;  // end once "success" has held for constants.success_hold
   MetricConstants constants;
-  policy::ActionLimits limits;
   // GL back end for the cameras a policy asks for (one renderer per requested camera, made for
   // this episode's model). kNone refuses camera-asking policies.
   render::Backend render_backend = render::Backend::kOsmesa;

@@ -112,7 +112,7 @@ bool reach(const model::Model& model, sim::Data& data, const core::Pose& X_WT, s
   sim::IkResult ik;
   for (int i = 0; i < 60; ++i) {
     ik = sim::set_tcp_target(model, data, X_WT);
-    for (size_t j = 0; j < model::kArmDof; ++j) {
+    for (size_t j = 0; j < ik.q_target.size(); ++j) {
       data.mj->qpos[model.arm_qpos_adr[j]] = ik.q_target[j];
     }
     if (ik.position_error < 1e-4 && ik.rotation_error < 1e-3) break;
@@ -121,9 +121,10 @@ bool reach(const model::Model& model, sim::Data& data, const core::Pose& X_WT, s
     why = fmt::format("IK misses by {:.3f} m, {:.3f} rad", ik.position_error, ik.rotation_error);
     return false;
   }
-  for (size_t j = 0; j < model::kArmDof; ++j) {
+  for (size_t j = 0; j < ik.q_target.size(); ++j) {
     const double q = ik.q_target[j];
-    if (q < model::kArmQMin[j] + kReachJointMargin || q > model::kArmQMax[j] - kReachJointMargin) {
+    const model::ArmJoint& joint = model.robot.joints[j];
+    if (q < joint.q_min + kReachJointMargin || q > joint.q_max - kReachJointMargin) {
       why = fmt::format("joint {} at {:.3f} rad is within {} rad of its limit", j + 1, q,
                         kReachJointMargin);
       return false;

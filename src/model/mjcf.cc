@@ -6,7 +6,22 @@
 
 #include <fmt/format.h>
 
-namespace hribench::model::mjcf {
+namespace hribench::model {
+
+double Shape::volume() const {
+  switch (kind) {
+    case kBox:
+      return 8 * b.x() * b.y() * b.z();
+    case kCylinder:
+      return core::kPi * radius * radius * (b - a).norm();
+    case kCapsule:
+      return core::kPi * radius * radius * (b - a).norm() +
+             4.0 / 3.0 * core::kPi * radius * radius * radius;
+  }
+  return 0;
+}
+
+namespace mjcf {
 
 std::string num(double v) {
   if (v == 0) v = 0;  // no "-0"
@@ -35,19 +50,6 @@ std::string camera_xyaxes(const core::Vec3& pos, const core::Vec3& target,
   return vec(right) + " " + vec(up);
 }
 
-double Shape::volume() const {
-  switch (kind) {
-    case kBox:
-      return 8 * b.x() * b.y() * b.z();
-    case kCylinder:
-      return core::kPi * radius * radius * (b - a).norm();
-    case kCapsule:
-      return core::kPi * radius * radius * (b - a).norm() +
-             4.0 / 3.0 * core::kPi * radius * radius * radius;
-  }
-  return 0;
-}
-
 void shape_geoms(const std::vector<Shape>& shapes, double mass, std::string_view name_prefix,
                  std::string_view cls, std::string& out, std::string_view extra) {
   double total = 0;
@@ -70,4 +72,5 @@ void shape_geoms(const std::vector<Shape>& shapes, double mass, std::string_view
   }
 }
 
-}  // namespace hribench::model::mjcf
+}  // namespace mjcf
+}  // namespace hribench::model

@@ -29,47 +29,19 @@ std::string rgba(const Rgba& c);
 std::string camera_xyaxes(const core::Vec3& pos, const core::Vec3& target,
                           const core::Vec3& up = core::Vec3::UnitZ());
 
-// Volume-weighted mass split: fills masses[i] for shapes with volumes[i] so they sum to total.
-// Geom shapes for links: capsule (fromto + radius) and box (centre + half sizes).
-struct Shape {
-  enum Kind { kCapsule, kBox, kCylinder } kind = kCapsule;
-  core::Vec3 a = core::Vec3::Zero();  // capsule/cylinder: from; box: centre
-  core::Vec3 b = core::Vec3::Zero();  // capsule/cylinder: to;   box: half sizes
-  double radius = 0;
-  double yaw = 0;  // box only: rotation about the body z axis (rad)
-  double volume() const;
-};
-
-inline Shape capsule(const core::Vec3& a, const core::Vec3& b, double r) {
-  return {Shape::kCapsule, a, b, r};
-}
-inline Shape box(const core::Vec3& centre, const core::Vec3& half) {
-  return {Shape::kBox, centre, half, 0};
-}
-inline Shape cylinder(const core::Vec3& a, const core::Vec3& b, double r) {
-  return {Shape::kCylinder, a, b, r};
-}
-
 // Writes shapes as geoms named "<prefix>_g<i>" of default class `cls` whose masses sum to
 // `mass` (split by volume). `extra` is appended inside each geom tag (e.g. rgba="...").
 void shape_geoms(const std::vector<Shape>& shapes, double mass, std::string_view name_prefix,
                  std::string_view cls, std::string& out, std::string_view extra = "");
 
-// The Panda arm with the Franka Hand, as a <body> tree placed at the robot base pose
-// (appended to `worldbody`), its actuators/tendon/equality (appended to `actuator`, `tendon`,
-// `equality`) and the default classes it uses (appended to `defaults`).
-void panda(std::string& defaults, std::string& worldbody, std::string& tendon,
-           std::string& equality, std::string& actuator);
-
-// The modified-DH parameters of robots.md (a_{i-1}, d_i, alpha_{i-1}) for joints 1..7 and the
-// flange (index 7).
-struct DhRow {
-  double a, d, alpha;
-};
-inline constexpr DhRow kPandaDh[8] = {
-    {0, 0.333, 0},          {0, 0, -core::kPi / 2},     {0, 0.316, core::kPi / 2},
-    {0.0825, 0, core::kPi / 2}, {-0.0825, 0.384, -core::kPi / 2}, {0, 0, core::kPi / 2},
-    {0.088, 0, core::kPi / 2},  {0, kFlangeLength, 0}};
+// The robot `robot` as a <body> tree with its base link at `base` (world, m), appended to
+// `worldbody`; its gripper tendon and finger coupling (appended to `tendon`, `equality`), its
+// servos (appended to `actuator`) and its geom default classes (appended to `defaults`).
+// Names: the description's links, joints and actuators; "flange", "hand", "tcp", the wrist
+// camera, "left_finger"/"right_finger", "finger_joint1"/"finger_joint2", "gripper".
+void robot(const Robot& robot, const core::Vec3& base, std::string& defaults,
+           std::string& worldbody, std::string& tendon, std::string& equality,
+           std::string& actuator);
 
 // Nominal half extents (body frame, origin at the bottom centre) of an object kind at scale 1.
 core::Vec3 nominal_half_extents(ObjectKind kind);

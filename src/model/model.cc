@@ -333,7 +333,8 @@ Generated generate(const SceneSpec& spec) {
                        mjcf::vec(cam), mjcf::camera_xyaxes(cam, Vec3(0.55, 0, 1.0)));
   world += "\n";
 
-  mjcf::panda(defaults, world, tendon, equality, actuator);
+  const Robot& robot = robot_by_name(s.robot);
+  mjcf::robot(robot, Vec3(0, 0, kTableTopZ), defaults, world, tendon, equality, actuator);
 
   // Objects (on the table, or in a hand).
   for (size_t i = 0; i < s.objects.size(); ++i) {
@@ -372,16 +373,16 @@ Generated generate(const SceneSpec& spec) {
 
   // Home keyframe: arm home, fingers open, objects and human at their start poses.
   std::string key_qpos;
-  for (double q : kArmHome) key_qpos += mjcf::num(q) + " ";
-  key_qpos += mjcf::num(kFingerMax) + " " + mjcf::num(kFingerMax);
+  for (const ArmJoint& j : robot.joints) key_qpos += mjcf::num(j.home) + " ";
+  key_qpos += mjcf::num(robot.gripper.finger_travel) + " " + mjcf::num(robot.gripper.finger_travel);
   for (size_t i = 0; i < s.objects.size(); ++i) {
     key_qpos += " " + mjcf::vec(g.X_W_start[i].translation) + " " +
                 mjcf::quat(g.X_W_start[i].rotation);
     if (g.resolved.kinds[i] == ObjectKind::kBox) key_qpos += " 0";
   }
   std::string key_ctrl;
-  for (double q : kArmHome) key_ctrl += mjcf::num(q) + " ";
-  key_ctrl += mjcf::num(kGripperMaxWidth);
+  for (const ArmJoint& j : robot.joints) key_ctrl += mjcf::num(j.home) + " ";
+  key_ctrl += mjcf::num(robot.gripper.max_width());
   std::string key_mocap;
   if (h.present) {
     std::string mpos, mquat;
@@ -559,15 +560,15 @@ Model build(const SceneSpec& spec) {
   model.mjcf = std::move(g.xml);
 
   // Robot.
-  for (int i = 0; i < kArmDof; ++i) {
-    const auto k = static_cast<size_t>(i);
-    model.arm_joint[k] = id_of(m, mjOBJ_JOINT, fmt::format("panda_joint{}", i + 1));
-    model.arm_qpos_adr[k] = m->jnt_qposadr[model.arm_joint[k]];
-    model.arm_dof_adr[k] = m->jnt_dofadr[model.arm_joint[k]];
-    model.arm_actuator[k] = id_of(m, mjOBJ_ACTUATOR, fmt::format("actuator{}", i + 1));
+  model.robot = robot_by_name(model.spec.robot);
+  for (const ArmJoint& j : model.robot.joints) {
+    const int joint = id_of(m, mjOBJ_JOINT, j.name);
+    model.arm_joint.push_back(joint);
+    model.arm_qpos_adr.push_back(m->jnt_qposadr[joint]);
+    model.arm_dof_adr.push_back(m->jnt_dofadr[joint]);
+    model.arm_actuator.push_back(id_of(m, mjOBJ_ACTUATOR, j.actuator));
   }
-  for (int i = 0; i < 8; ++i)
-    model.link_body[static_cast<size_t>(i)] = id_of(m, mjOBJ_BODY, fmt::format("link{}", i));
+  for (const Link& link : model.robot.links) model.link_body.push_back(id_of(m, mjOBJ_BODY, link.name));
   const std::array<std::string, 2> finger_joints = {"finger_joint1", "finger_joint2"};
   const std::array<std::string, 2> finger_bodies = {"left_finger", "right_finger"};
   for (size_t i = 0; i < 2; ++i) {
@@ -582,7 +583,7 @@ Model build(const SceneSpec& spec) {
   model.tcp_site = id_of(m, mjOBJ_SITE, "tcp");
   model.X_WB.translation = Vec3(0, 0, kTableTopZ);
   model.agentview_camera = id_of(m, mjOBJ_CAMERA, "agentview");
-  model.wrist_camera = id_of(m, mjOBJ_CAMERA, "wrist");
+  model.wrist_camera = id_of(m, mjOBJ_CAMERA, model.robot.wrist_camera.name);
   model.table_geom = id_of(m, mjOBJ_GEOM, "table");
   model.floor_geom = id_of(m, mjOBJ_GEOM, "floor");
   for (const PlatformSpec& pl : model.spec.platforms) {
@@ -641,7 +642,8 @@ Model build(const SceneSpec& spec) {
 
   // Geom tags, from the owning body.
   std::map<int, GeomTag> by_body;
-  for (size_t k = 0; k < 8; ++k) by_body[model.link_body[k]] = {GeomOwner::kRobotLink, static_cast<int>(k)};
+  for (size_t k = 0; k < model.link_body.size(); ++k)
+    by_body[model.link_body[k]] = {GeomOwner::kRobotLink, static_cast<int>(k)};
   by_body[model.hand_body] = {GeomOwner::kRobotHand, -1};
   for (size_t k = 0; k < 2; ++k)
     by_body[model.finger_body[k]] = {GeomOwner::kRobotFinger, static_cast<int>(k)};

@@ -1,7 +1,7 @@
 #pragma once
-// The world as an immutable MuJoCo model: a Franka Panda with the Franka Hand on a table,
-// graspable objects, and a kinematic human body (one mocap body per skeleton joint carrying
-// capsules). Built from a plain SceneSpec by generating MJCF text in C++ and loading it through
+// The world as an immutable MuJoCo model: a robot (a description of model/robot.h, by default
+// the Franka Panda with the Franka Hand) on a table, graspable objects, and a kinematic human
+// body (one mocap body per skeleton joint carrying capsules). Built from a plain SceneSpec by generating MJCF text in C++ and loading it through
 // MuJoCo 2.2.2's virtual file system (no files are read or written).
 //
 // World frame W (core/math.h): z up, floor at z = 0, x from the robot base toward the human,
@@ -23,6 +23,7 @@
 
 #include "core/math.h"
 #include "human/skeleton.h"
+#include "model/robot.h"
 
 namespace hribench::model {
 
@@ -100,6 +101,9 @@ struct PlatformSpec {
 };
 
 struct SceneSpec {
+  // The robot on the table: a description's name (robot_by_name; an unknown name is an
+  // InputError of build()).
+  std::string robot = std::string(kDefaultRobot);
   std::vector<ObjectSpec> objects;
   HumanSpec human;
   std::vector<PlatformSpec> platforms;
@@ -108,8 +112,8 @@ struct SceneSpec {
   // Lights cast shadows (MuJoCo's shadow map; costly on llvmpipe). Off by default.
   bool shadows = false;
 
-  // A default scene: Panda, table, a red cube, a green cup, a blue bin, and a human standing
-  // at the far edge facing the robot.
+  // A default scene: the default robot (the Panda), table, a red cube, a green cup, a blue
+  // bin, and a human standing at the far edge facing the robot.
   static SceneSpec Default();
 };
 
@@ -123,33 +127,14 @@ inline constexpr double kTableWidth = 1.0;      // along y, m
 inline constexpr double kTimestep = 0.002;      // s (500 Hz physics)
 
 // ---------------------------------------------------------------------------------------------
-// Robot constants (reference/robots.md, Franka Panda).
-
-inline constexpr int kArmDof = 7;
-inline constexpr std::array<double, kArmDof> kArmQMin = {-2.8973, -1.7628, -2.8973, -3.0718,
-                                                          -2.8973, -0.0175, -2.8973};
-inline constexpr std::array<double, kArmDof> kArmQMax = {2.8973, 1.7628, 2.8973, -0.0698,
-                                                          2.8973, 3.7525, 2.8973};
-inline constexpr std::array<double, kArmDof> kArmQdMax = {2.175, 2.175, 2.175, 2.175,
-                                                           2.61,  2.61,  2.61};
-inline constexpr std::array<double, kArmDof> kArmTauMax = {87, 87, 87, 87, 12, 12, 12};
-// Home configuration (arm joints, rad).
-inline constexpr std::array<double, kArmDof> kArmHome = {0, 0, 0, -1.57079, 0, 1.57079, -0.7853};
-inline constexpr double kFingerMax = 0.04;      // each finger's travel, m (opening 0..0.08)
-inline constexpr double kGripperMaxWidth = 0.08;
-inline constexpr double kGripperForceMax = 70;  // N, gripper servo force limit (each finger)
-inline constexpr double kFlangeLength = 0.107;  // link7 -> flange along z7, m
-inline constexpr double kTcpOffset = 0.1034;    // hand frame -> TCP along z_hand, m
-
-// ---------------------------------------------------------------------------------------------
 // Geom tags: who every geom of the model belongs to.
 
 enum class GeomOwner {
   kOther,        // e.g. decorative geoms
   kFloor,
   kTable,
-  kRobotLink,    // index = link number 0..7 (link0 = base)
-  kRobotHand,    // the Franka Hand body (palm housing)
+  kRobotLink,    // index = link number in Robot::links (0 = base)
+  kRobotHand,    // the hand body (palm housing)
   kRobotFinger,  // index = 0 (left finger) or 1 (right finger); includes the finger pads
   kHuman,        // index = capsule index in Model::human_capsules; region/joint set
   kObject,       // index = object index in Model::objects
@@ -219,20 +204,22 @@ struct Model {
 
   const mjModel* m() const { return mj.get(); }
 
-  // Robot ids and addresses. Arm joints are named "panda_joint1".."panda_joint7".
-  std::array<int, kArmDof> arm_joint{};     // joint ids
-  std::array<int, kArmDof> arm_qpos_adr{};  // qpos addresses
-  std::array<int, kArmDof> arm_dof_adr{};   // dof addresses
-  std::array<int, kArmDof> arm_actuator{};  // position-servo actuator ids (ctrl = target, rad)
-  std::array<int, 8> link_body{};           // link0..link7 body ids
-  std::array<int, 2> finger_joint{};        // left/right finger slide joints (0..0.04 m)
+  // The robot's description (robot_by_name(spec.robot)): its dof, joint limits, gripper range.
+  Robot robot;
+  // Robot ids and addresses, one per arm joint (robot.joints) or link (robot.links).
+  std::vector<int> arm_joint;     // joint ids
+  std::vector<int> arm_qpos_adr;  // qpos addresses
+  std::vector<int> arm_dof_adr;   // dof addresses
+  std::vector<int> arm_actuator;  // position-servo actuator ids (ctrl = target, rad)
+  std::vector<int> link_body;     // link body ids, base first
+  std::array<int, 2> finger_joint{};        // left/right finger slide joints
   std::array<int, 2> finger_qpos_adr{};
   std::array<int, 2> finger_dof_adr{};
   std::array<int, 2> finger_body{};
-  int gripper_actuator = -1;  // ctrl = target opening width in m (0..0.08), force-limited
-  int hand_body = -1;         // the Franka Hand body (hand frame = body frame)
-  int flange_site = -1;       // site at the flange (link7 frame translated 0.107 m along z7)
-  int tcp_site = -1;          // site at the TCP: hand frame + 0.1034 m along z_hand
+  int gripper_actuator = -1;  // ctrl = target opening width in m (0..robot.gripper.max_width())
+  int hand_body = -1;         // the hand body (hand frame = body frame)
+  int flange_site = -1;       // site at the flange (robot.flange in the last link's frame)
+  int tcp_site = -1;          // site at the TCP: hand frame + robot.gripper.tcp_offset along z_hand
   core::Pose X_WB;            // robot base pose in world
 
   // Cameras (MuJoCo camera ids): "agentview" (front/above, fixed) and "wrist" (on the hand,

@@ -7,8 +7,9 @@
 namespace hribench::policy {
 namespace {
 
-double gripper_command(const Proprioception& proprio) {
-  return std::clamp(proprio.gripper_width / kMaxGripperWidth, 0.0, 1.0);
+// The observed opening as a gripper command (a fraction of the full opening).
+double gripper_command(const Proprioception& proprio, double max_width) {
+  return std::clamp(proprio.gripper_width / max_width, 0.0, 1.0);
 }
 
 }  // namespace
@@ -17,16 +18,19 @@ NoopPolicy::NoopPolicy(ActionSpace space) : space_(space) {}
 
 PolicySpec NoopPolicy::spec() const { return PolicySpec{{}, false, space_, 1}; }
 
-void NoopPolicy::reset(const EpisodeInfo&) {}
+void NoopPolicy::reset(const EpisodeInfo& info) {
+  max_width_ = model::robot_by_name(info.robot).gripper.max_width();
+}
 
 ActionChunk NoopPolicy::act(const Observation& observation) {
-  Action action(static_cast<size_t>(action_dim(space_)), 0.0);
+  HRIB_CHECK(max_width_ > 0) << "noop: act before reset";
+  Action action(static_cast<size_t>(action_dim(space_, observation.proprio.joint_pos.size())), 0.0);
   // Hold: zero deltas, or the observed joint positions; keep the gripper as it is.
   if (space_ == ActionSpace::kJointPos) {
     std::copy(observation.proprio.joint_pos.begin(), observation.proprio.joint_pos.end(),
               action.begin());
   }
-  action.back() = gripper_command(observation.proprio);
+  action.back() = gripper_command(observation.proprio, max_width_);
   return ActionChunk{space_, {std::move(action)}};
 }
 
@@ -49,12 +53,19 @@ RandomPolicy::RandomPolicy(ActionSpace space, uint64_t seed, double scale, Actio
 
 PolicySpec RandomPolicy::spec() const { return PolicySpec{{}, false, space_, chunk_length_}; }
 
-void RandomPolicy::reset(const EpisodeInfo& info) { rng_ = core::Rng(seed_).split(info.seed); }
+void RandomPolicy::reset(const EpisodeInfo& info) {
+  rng_ = core::Rng(seed_).split(info.seed);
+  const ActionLimits robot = action_limits(model::robot_by_name(info.robot));
+  limits_.robot = robot.robot;
+  limits_.q_min = robot.q_min;
+  limits_.q_max = robot.q_max;
+}
 
 ActionChunk RandomPolicy::act(const Observation& observation) {
+  HRIB_CHECK(!limits_.q_min.empty()) << "random: act before reset";
   ActionChunk chunk{space_, {}};
   for (int k = 0; k < chunk_length_; ++k) {
-    Action action(static_cast<size_t>(action_dim(space_)), 0.0);
+    Action action(static_cast<size_t>(action_dim(space_, limits_.q_min.size())), 0.0);
     for (size_t j = 0; j + 1 < action.size(); ++j) {
       if (space_ == ActionSpace::kEeDelta) {
         const double bound = scale_ * (j < 3 ? limits_.max_ee_translation : limits_.max_ee_rotation);

@@ -4,6 +4,8 @@
 //            positions (joint_pos), and the observed gripper opening.
 //   random — uniform actions inside ActionLimits, seeded: the same (seed, episode seed,
 //            observations) give the same actions.
+// Both size their actions and read the gripper's range from the episode's robot
+// (EpisodeInfo::robot, model/robot.h); act() before reset() is a bug (HRIB_CHECK).
 
 #include <cstdint>
 #include <memory>
@@ -22,12 +24,14 @@ class NoopPolicy : public Policy {
 
  private:
   ActionSpace space_;
+  double max_width_ = 0;  // the robot's full gripper opening, m (set by reset)
 };
 
 class RandomPolicy : public Policy {
  public:
   // `scale` in (0, 1] shrinks the sampled range around the centre of the limits (ee_delta:
   // around zero; joint_pos: around the observed joint positions, clamped to the limits).
+  // `limits` gives the ee_delta bounds; joint_pos uses the episode robot's joint limits.
   RandomPolicy(ActionSpace space, uint64_t seed, double scale, ActionLimits limits = {},
                int chunk_length = 1);
   PolicySpec spec() const override;

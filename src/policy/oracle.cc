@@ -26,7 +26,7 @@ double intrusion_gap(const Pose& X_WT, const Joints& joints, Vec3& away) {
   const Vec3 tcp = X_WT.translation;
   const Vec3 up = X_WT.rotation * Vec3(0, 0, -1);
   const Vec3 across = X_WT.rotation * Vec3(0, 1, 0);
-  const Vec3 housing = tcp + (model::kTcpOffset - 0.035) * up;
+  const Vec3 housing = tcp + (skill_robot().gripper.tcp_offset - 0.035) * up;
   const std::array<GapCapsule, 4> robot = {
       GapCapsule{housing - 0.07 * across, housing + 0.07 * across, 0.035}, GapCapsule{tcp, tcp + 0.05 * up, 0.02},
       GapCapsule{tcp + 0.11 * up, tcp + 0.2 * up, 0.06}, GapCapsule{tcp + 0.2 * up, tcp + 0.32 * up, 0.06}};
@@ -105,6 +105,11 @@ void ExpertPolicy::reset(const EpisodeInfo& info) {
   if (!info.episode) {
     throw PolicyError(PolicyErrorKind::kFailed,
                       std::string(to_string(competence_)) + ": needs the privileged episode");
+  }
+  if (info.robot != skill_robot().name) {
+    throw PolicyError(PolicyErrorKind::kFailed, std::string(to_string(competence_)) +
+                                                    ": has skills for " + skill_robot().name +
+                                                    ", not " + info.robot);
   }
   episode_ = info.episode;
   body_ = human::Skeleton::FromHeight(episode_->human.height.value());

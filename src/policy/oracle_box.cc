@@ -216,7 +216,7 @@ void ExpertPolicy::run_box_pick(const World& world, size_t k, size_t box) {
       break;
     }
     case PickPhase::kDescend:  // down into the box, the fingers pre-shaped just wider than the object
-      gripper_ = std::min(1.0, (w + kPreshapeGap) / kMaxGripperWidth);
+      gripper_ = std::min(1.0, (w + kPreshapeGap) / skill_robot().gripper.max_width());
       speed_ = oracle_box::kDescentSpeed;
       target_.translation = grasp;
       if ((tcp - grasp).norm() < kReachedDistance / 2 || (elapsed > 2.0 && (tcp - grasp).norm() < 2 * kReachedDistance)) {

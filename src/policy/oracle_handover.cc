@@ -320,7 +320,7 @@ bool ExpertPolicy::run_take(const World& world, const PlanStep& step) {
       // start only once the person has let go)
       const double w = grip_width(g.kind, g.half_extents);
       const double command = w + kPreshapeGap - kSqueezeRate * std::max(0.0, elapsed - kPreshapeTime);
-      gripper_ = std::clamp(command / kMaxGripperWidth, 0.0, 1.0);
+      gripper_ = std::clamp(command / skill_robot().gripper.max_width(), 0.0, 1.0);
       speed_ = 0;
       target_.translation = grasp;
       if (touching || command < w - kSqueezeDepth) set_phase(TakePhase::kGrip, world.time);

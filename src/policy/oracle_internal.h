@@ -22,6 +22,10 @@ using core::Pose;
 using core::Quat;
 using core::Vec3;
 
+// The robot the skills are written for (grasp widths, hand clearances): the Panda and its hand.
+// Another robot needs its own skills; the expert refuses its episodes (ExpertPolicy::reset).
+inline const model::Robot& skill_robot() { return model::panda(); }
+
 inline constexpr double kTableZ = model::kTableTopZ;
 inline constexpr double kHoldingWidth = 0.004;   // m: an opening above this with the gripper closed holds
 inline constexpr double kReachedDistance = 0.008;  // m: a segment's end counts as reached

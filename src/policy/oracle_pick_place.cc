@@ -113,7 +113,7 @@ ExpertPolicy::Grip ExpertPolicy::squeeze(const World& world, double width, const
                                          double rate, double grip) {
   const double elapsed = world.time - phase_start_;
   const double command = width + kPreshapeGap - rate * std::max(0.0, elapsed - preshape);
-  gripper_ = command > width - kSqueezeDepth ? std::min(1.0, command / kMaxGripperWidth) : 0.0;
+  gripper_ = command > width - kSqueezeDepth ? std::min(1.0, command / skill_robot().gripper.max_width()) : 0.0;
   speed_ = 0;
   target_.translation = grasp;
   if (elapsed <= preshape + (kPreshapeGap + kSqueezeDepth) / rate + grip) return Grip::kClosing;

@@ -8,6 +8,8 @@
 // state track only when asked. The script's internal phase is never observed.
 //
 // Units: metres, radians, seconds; poses are X_WB (pose of B in world, core/math.h).
+// Robot-specific sizes and bounds (joint vectors, joint_pos actions, their limits, the gripper's
+// opening) come from the episode's robot description (model/robot.h, EpisodeInfo::robot).
 // Adding a policy never touches the runner: implement Policy and register a factory by name
 // (policy/registry.h).
 
@@ -21,24 +23,25 @@
 #include <vector>
 
 #include "core/math.h"
+#include "model/robot.h"
 #include "script/scenario.h"
 
 namespace hribench::policy {
 
-inline constexpr int kArmJoints = 7;         // Panda arm joints
 inline constexpr int kHumanKeypoints = 22;   // SMPL joints (human/skeleton.h)
-inline constexpr double kMaxGripperWidth = 0.08;  // Franka Hand full opening, m
 
 // ee_delta: [dx, dy, dz (m, world frame), drx, dry, drz (rad, axis-angle in world frame),
 //            gripper]; one control step's change of the TCP pose (differential IK).
-// joint_pos: [q1..q7 (rad, absolute targets), gripper].
-// gripper: target opening as a fraction of the full opening, 0 = closed, 1 = fully open.
+// joint_pos: [q_1..q_dof (rad, absolute targets, one per arm joint of the robot), gripper].
+// gripper: target opening as a fraction of the robot's full opening (gripper.max_width()),
+// 0 = closed, 1 = fully open.
 enum class ActionSpace { kEeDelta, kJointPos };
 std::string_view to_string(ActionSpace space);  // "ee_delta" | "joint_pos"
 // Throws core::InputError (where = `where`) for an unknown name.
 ActionSpace action_space_from_string(std::string_view name, std::string_view where);
-// Values per action: 7 for ee_delta, 8 for joint_pos.
-int action_dim(ActionSpace space);
+// Values per action for a robot with `dof` arm joints: 7 for ee_delta, dof + 1 for joint_pos.
+int action_dim(ActionSpace space, size_t dof);
+int action_dim(ActionSpace space, const model::Robot& robot);
 
 // One camera a policy wants, rendered at width x height (pixels).
 struct CameraRequest {
@@ -66,6 +69,9 @@ struct EpisodeInfo {
   uint64_t seed = 0;        // the episode's seed (a policy may seed its own randomness)
   double horizon = 30.0;    // s
   double control_dt = 0.05; // s between control steps
+  // The robot's description name (model::robot_by_name): its dof sizes the proprioception and
+  // joint_pos actions, its joint limits and gripper range bound them.
+  std::string robot = std::string(model::kDefaultRobot);
   // Privileged policies only (PolicySpec::privileged), else null: the sampled episode (scene,
   // human, acts with their goals, success) whose events Observation::events reports.
   std::shared_ptr<const script::EpisodeSpec> episode;
@@ -79,11 +85,11 @@ struct Image {
   std::vector<uint8_t> pixels;  // size height * width * 3
 };
 
-// The robot's own state.
+// The robot's own state; joint vectors hold one value per arm joint of the episode's robot.
 struct Proprioception {
-  std::array<double, kArmJoints> joint_pos{};  // rad
-  std::array<double, kArmJoints> joint_vel{};  // rad/s
-  double gripper_width = 0;                    // m, 0 .. kMaxGripperWidth
+  model::JointVector joint_pos;  // rad
+  model::JointVector joint_vel;  // rad/s
+  double gripper_width = 0;      // m, 0 .. the robot's gripper.max_width()
   core::Pose X_WT;                             // tool centre point in world
 };
 
@@ -120,7 +126,7 @@ struct Observation {
   std::vector<ScriptEvent> events;  // privileged only: every event so far, in time order
 };
 
-// One action: action_dim(space) values (see ActionSpace).
+// One action: action_dim(space, robot) values (see ActionSpace).
 using Action = std::vector<double>;
 
 struct ActionChunk {
@@ -128,14 +134,18 @@ struct ActionChunk {
   std::vector<Action> actions;  // executed in order, one per control step
 };
 
-// Bounds a returned action must respect (out of range is an error, never clipped silently).
+// Bounds a returned action must respect (out of range is an error, never clipped silently):
+// the benchmark's per-step bounds of ee_delta, and for joint_pos the robot's joint limits and
+// dof (action_limits(robot); a default ActionLimits has none and validates ee_delta only).
 struct ActionLimits {
   double max_ee_translation = 0.05;  // |dx|,|dy|,|dz| per control step, m (1 m/s at 20 Hz)
   double max_ee_rotation = 0.25;     // |drx|,|dry|,|drz| per control step, rad
-  std::array<double, kArmJoints> q_min{-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175,
-                                       -2.8973};  // Panda (reference/robots.md), rad
-  std::array<double, kArmJoints> q_max{2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973};
+  std::string robot;                 // the robot whose joints these are ("" without joints)
+  model::JointVector q_min;          // rad, one per arm joint
+  model::JointVector q_max;          // rad
 };
+// The default ee_delta bounds with `robot`'s name, joint limits and dof.
+ActionLimits action_limits(const model::Robot& robot);
 
 // What went wrong with a policy; the runner turns it into EpisodeStatus::kPolicyError.
 enum class PolicyErrorKind {
@@ -158,7 +168,9 @@ class PolicyError : public std::runtime_error {
 };
 
 // Throws PolicyError if `chunk` is not a well-formed chunk in `expected` space within `limits`.
-// The message names the action index and value index ("action 2 value 3: ...").
+// The message names the action index and value index ("action 2 value 3: ..."), and for a
+// wrong size the expected count ("expected 8 values (joint_pos: 7 joints of panda + gripper),
+// got 7"). joint_pos needs limits with joints (action_limits; HRIB_CHECK).
 void validate_chunk(const ActionChunk& chunk, ActionSpace expected, const ActionLimits& limits);
 
 class Policy {

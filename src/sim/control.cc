@@ -5,11 +5,15 @@
 
 #include <Eigen/Dense>
 
+#include "core/errors.h"
+
 namespace hribench::sim {
 namespace {
 
-using Matrix6x7 = Eigen::Matrix<double, 6, model::kArmDof>;
-using Vector7 = Eigen::Matrix<double, model::kArmDof, 1>;
+// Sized by the robot's dof at run time, stored in place (no allocation).
+constexpr int kMaxDof = static_cast<int>(model::kMaxArmDof);
+using Jacobian = Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::ColMajor, 6, kMaxDof>;
+using JointColumn = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxDof, 1>;
 using Vector6 = Eigen::Matrix<double, 6, 1>;
 
 // Joint targets stay this far inside the limits (rad), so the servo never fights a limit.
@@ -20,8 +24,8 @@ constexpr double kDamping = 1e-4;  // DLS lambda^2
 constexpr int kIkIterations = 8;
 constexpr double kMaxIterationStep = 0.4;  // rad per IK iteration
 
-double clamp_joint(size_t i, double q) {
-  return std::clamp(q, model::kArmQMin[i] + kLimitMargin, model::kArmQMax[i] - kLimitMargin);
+double clamp_joint(const model::ArmJoint& joint, double q) {
+  return std::clamp(q, joint.q_min + kLimitMargin, joint.q_max - kLimitMargin);
 }
 
 // Scratch kinematics for arm configuration q (other qpos as in the simulated state).
@@ -30,7 +34,7 @@ void scratch_kinematics(const model::Model& model, Data& data, const ArmVector* 
   mjData* s = data.scratch.get();
   mju_copy(s->qpos, data.mj->qpos, m->nq);
   if (q != nullptr)
-    for (size_t i = 0; i < model::kArmDof; ++i) s->qpos[model.arm_qpos_adr[i]] = (*q)[i];
+    for (size_t i = 0; i < q->size(); ++i) s->qpos[model.arm_qpos_adr[i]] = (*q)[i];
   mj_kinematics(m, s);
   mj_comPos(m, s);
 }
@@ -49,14 +53,14 @@ core::Vec3 rotation_vector(const core::Quat& q) {
   return aa.axis() * aa.angle();
 }
 
-// The 6 x 7 TCP Jacobian (linear; angular) of the scratch state.
-Matrix6x7 tcp_jacobian(const model::Model& model, Data& data) {
+// The 6 x dof TCP Jacobian (linear; angular) of the scratch state.
+Jacobian tcp_jacobian(const model::Model& model, Data& data) {
   const mjModel* m = model.m();
   mjtNum* jacp = data.jacobian.data();
   mjtNum* jacr = jacp + 3 * m->nv;
   mj_jacSite(m, data.scratch.get(), jacp, jacr, model.tcp_site);
-  Matrix6x7 J;
-  for (size_t c = 0; c < model::kArmDof; ++c) {
+  Jacobian J(6, static_cast<Eigen::Index>(model.arm_dof_adr.size()));
+  for (size_t c = 0; c < model.arm_dof_adr.size(); ++c) {
     const int dof = model.arm_dof_adr[c];
     for (int r = 0; r < 3; ++r) {
       J(r, static_cast<Eigen::Index>(c)) = jacp[r * m->nv + dof];
@@ -69,8 +73,10 @@ Matrix6x7 tcp_jacobian(const model::Model& model, Data& data) {
 }  // namespace
 
 void set_joint_targets(const model::Model& model, Data& data, const ArmVector& q) {
-  for (size_t i = 0; i < model::kArmDof; ++i) {
-    data.q_target[i] = clamp_joint(i, q[i]);
+  HRIB_CHECK(q.size() == model.robot.dof())
+      << "joint targets: " << q.size() << " values for " << model.robot.dof() << " joints";
+  for (size_t i = 0; i < q.size(); ++i) {
+    data.q_target[i] = clamp_joint(model.robot.joints[i], q[i]);
     data.mj->ctrl[model.arm_actuator[i]] = data.q_target[i];
   }
 }
@@ -78,7 +84,9 @@ void set_joint_targets(const model::Model& model, Data& data, const ArmVector& q
 IkResult set_tcp_target(const model::Model& model, Data& data, const core::Pose& X_W_tcp) {
   IkResult result;
   ArmVector q = arm_joint_positions(model, data);
-  for (size_t i = 0; i < model::kArmDof; ++i) q[i] = clamp_joint(i, q[i]);
+  const size_t dof = q.size();
+  const auto n = static_cast<Eigen::Index>(dof);
+  for (size_t i = 0; i < dof; ++i) q[i] = clamp_joint(model.robot.joints[i], q[i]);
   Vector6 e = Vector6::Zero();
   for (int iter = 0; iter <= kIkIterations; ++iter) {
     scratch_kinematics(model, data, &q);
@@ -86,19 +94,20 @@ IkResult set_tcp_target(const model::Model& model, Data& data, const core::Pose&
     e.head<3>() = X_W_tcp.translation - X.translation;
     e.tail<3>() = rotation_vector(X_W_tcp.rotation * X.rotation.conjugate());
     if (iter == kIkIterations || (e.head<3>().norm() < 1e-6 && e.tail<3>().norm() < 1e-5)) break;
-    const Matrix6x7 J = tcp_jacobian(model, data);
+    const Jacobian J = tcp_jacobian(model, data);
     // Damped least squares, weighted: a joint near a limit moves less toward that limit.
-    Vector7 weight = Vector7::Ones();
+    JointColumn weight = JointColumn::Ones(n);
     for (int pass = 0; pass < 2; ++pass) {
-      const Matrix6x7 JW = J * weight.asDiagonal();
+      const Jacobian JW = J * weight.asDiagonal();
       const Eigen::Matrix<double, 6, 6> A =
           JW * J.transpose() + kDamping * Eigen::Matrix<double, 6, 6>::Identity();
-      Vector7 dq = weight.asDiagonal() * J.transpose() * A.ldlt().solve(e);
+      JointColumn dq = weight.asDiagonal() * J.transpose() * A.ldlt().solve(e);
       if (pass == 0) {
         bool changed = false;
-        for (size_t i = 0; i < model::kArmDof; ++i) {
+        for (size_t i = 0; i < dof; ++i) {
           const auto k = static_cast<Eigen::Index>(i);
-          const double room = dq(k) > 0 ? model::kArmQMax[i] - q[i] : q[i] - model::kArmQMin[i];
+          const model::ArmJoint& joint = model.robot.joints[i];
+          const double room = dq(k) > 0 ? joint.q_max - q[i] : q[i] - joint.q_min;
           if (room < kLimitZone) {
             weight(k) = std::max(0.02, room / kLimitZone);
             changed = true;
@@ -108,9 +117,9 @@ IkResult set_tcp_target(const model::Model& model, Data& data, const core::Pose&
       }
       const double largest = dq.cwiseAbs().maxCoeff();
       if (largest > kMaxIterationStep) dq *= kMaxIterationStep / largest;
-      for (size_t i = 0; i < model::kArmDof; ++i) {
+      for (size_t i = 0; i < dof; ++i) {
         const double unclamped = q[i] + dq(static_cast<Eigen::Index>(i));
-        q[i] = clamp_joint(i, unclamped);
+        q[i] = clamp_joint(model.robot.joints[i], unclamped);
         if (q[i] != unclamped) result.limited = true;
       }
       break;
@@ -135,19 +144,19 @@ IkResult apply_ee_delta(const model::Model& model, Data& data, const EeDelta& de
 }
 
 void set_gripper_width(const model::Model& model, Data& data, double width) {
-  data.gripper_width_target = std::clamp(width, 0.0, model::kGripperMaxWidth);
+  data.gripper_width_target = std::clamp(width, 0.0, model.robot.gripper.max_width());
   data.mj->ctrl[model.gripper_actuator] = data.gripper_width_target;
 }
 
 ArmVector arm_joint_positions(const model::Model& model, const Data& data) {
-  ArmVector q{};
-  for (size_t i = 0; i < model::kArmDof; ++i) q[i] = data.mj->qpos[model.arm_qpos_adr[i]];
+  ArmVector q(model.arm_qpos_adr.size());
+  for (size_t i = 0; i < q.size(); ++i) q[i] = data.mj->qpos[model.arm_qpos_adr[i]];
   return q;
 }
 
 ArmVector arm_joint_velocities(const model::Model& model, const Data& data) {
-  ArmVector v{};
-  for (size_t i = 0; i < model::kArmDof; ++i) v[i] = data.mj->qvel[model.arm_dof_adr[i]];
+  ArmVector v(model.arm_dof_adr.size());
+  for (size_t i = 0; i < v.size(); ++i) v[i] = data.mj->qvel[model.arm_dof_adr[i]];
   return v;
 }
 

@@ -1,21 +1,21 @@
 #pragma once
 // Robot controllers and robot state queries.
 //
-// The arm has position servos (model: kp 4500/4500/3500/3500/2000/2000/2000 N m/rad,
-// kv = kp/10, torque-limited to 87/12 N m) plus gravity compensation applied by step(), as the
+// Everything robot-specific comes from the model's robot description (model/robot.h): the
+// number of joints, their limits, the gripper's range. The arm has position servos (the
+// description's kp, kv and torque limits) plus gravity compensation applied by step(), as the
 // real Panda's controller does. Commands set servo targets; step() makes the physics follow.
-//  - joint_pos: absolute joint targets, clamped to the joint limits.
+//  - joint_pos: absolute joint targets (one per arm joint), clamped to the joint limits.
 //  - ee_delta: a 6-D delta of the TCP pose, turned into joint targets by damped least-squares
 //    differential IK (a few Gauss-Newton iterations on a scratch mjData) with joint-limit-aware
 //    weighting and clamping.
-//  - gripper: a target opening width (0..0.08 m) tracked by a force-limited servo
-//    (model::kGripperForceMax); closing on an object squeezes it with up to that force.
+//  - gripper: a target opening width (0 .. robot.gripper.max_width()) tracked by a
+//    force-limited servo (robot.gripper.force_max); closing on an object squeezes it with up
+//    to that force.
 //
 // Frames: W = world (core/math.h). The TCP frame is the hand frame translated
-// model::kTcpOffset (0.1034 m) along the hand's z axis (pointing out between the fingers);
-// its x axis is the hand x axis, y the finger motion axis.
-
-#include <array>
+// robot.gripper.tcp_offset along the hand's z axis (pointing out between the fingers); its x
+// axis is the hand x axis, y the finger motion axis.
 
 #include "core/math.h"
 #include "model/model.h"
@@ -23,9 +23,11 @@
 
 namespace hribench::sim {
 
-using ArmVector = std::array<double, model::kArmDof>;
+// One value per arm joint, sized by the robot's dof (fixed capacity: allocation-free).
+using ArmVector = model::JointVector;
 
-// Clamps `q` (rad) into the joint limits and makes it the arm's servo target.
+// Clamps `q` (rad, model.robot.dof() values: HRIB_CHECK) into the joint limits and makes it the
+// arm's servo target.
 void set_joint_targets(const model::Model& model, Data& data, const ArmVector& q);
 
 // A TCP pose delta: translation (m, world frame) and rotation vector (rad, world frame:
@@ -49,10 +51,10 @@ IkResult apply_ee_delta(const model::Model& model, Data& data, const EeDelta& de
 // Same with the target TCP pose in world given directly.
 IkResult set_tcp_target(const model::Model& model, Data& data, const core::Pose& X_W_tcp);
 
-// Gripper target opening width, clamped to [0, 0.08] m.
+// Gripper target opening width, clamped to [0, model.robot.gripper.max_width()] m.
 void set_gripper_width(const model::Model& model, Data& data, double width);
 inline void open_gripper(const model::Model& model, Data& data) {
-  set_gripper_width(model, data, model::kGripperMaxWidth);
+  set_gripper_width(model, data, model.robot.gripper.max_width());
 }
 inline void close_gripper(const model::Model& model, Data& data) {
   set_gripper_width(model, data, 0);

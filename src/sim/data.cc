@@ -28,9 +28,9 @@ void reset(const model::Model& model, Data& data, const human::SkeletonPose& hum
   mjData* d = data.mj.get();
   // Home keyframe: robot home, fingers open, objects at their spec poses, human at start.
   mj_resetDataKeyframe(m, d, 0);
-  data.q_target = model::kArmHome;
-  data.gripper_width_target = model::kGripperMaxWidth;
-  for (size_t i = 0; i < model::kArmDof; ++i) d->ctrl[model.arm_actuator[i]] = data.q_target[i];
+  data.q_target = model.robot.home();
+  data.gripper_width_target = model.robot.gripper.max_width();
+  for (size_t i = 0; i < data.q_target.size(); ++i) d->ctrl[model.arm_actuator[i]] = data.q_target[i];
   d->ctrl[model.gripper_actuator] = data.gripper_width_target;
   data.hold = {};
   data.human_pose = human_start;

@@ -47,8 +47,8 @@ struct Data {
   std::vector<mjtNum> jacobian;  // 6 x nv scratch for IK (allocated by make_data)
 
   // Robot controller targets (what the servos track; written to mj->ctrl).
-  std::array<double, model::kArmDof> q_target{};  // rad, within the joint limits
-  double gripper_width_target = model::kGripperMaxWidth;  // m, in [0, 0.08]
+  model::JointVector q_target;     // rad, one per arm joint, within the joint limits
+  double gripper_width_target = 0;  // m, in [0, model.robot.gripper.max_width()]
 
   // Human (meaningful only if model.has_human).
   human::SkeletonPose human_pose;                         // the pose to show at the next step

@@ -55,6 +55,23 @@ TEST(Report, ProvenanceAndConstantsInResults) {
   EXPECT_EQ(j["episodes"].size(), 4u);
   EXPECT_EQ(j["episodes"][1]["seed"], 101);
   EXPECT_EQ(j["episodes"][1]["primary_label"], "timeout");
+  // Every episode names its robot; the provenance lists the run's robots.
+  EXPECT_EQ(j["episodes"][1]["robot"], "panda");
+  EXPECT_EQ(j["provenance"]["robots"], nlohmann::json::array({"panda"}));
+  EXPECT_NE(summary_markdown(run).find("renderer: none, robot: panda; 4 episodes"), std::string::npos);
+}
+
+TEST(Report, EpisodesWithoutARobotAreThePandas) {
+  nlohmann::json j = episode_to_json(sample_run().episodes[0]);
+  j.erase("robot");
+  EXPECT_EQ(episode_from_json(j, "e").robot, "panda");
+  j["robot"] = 3;
+  try {
+    episode_from_json(j, "e");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "e.robot: expected a string, got number");
+  }
 }
 
 TEST(Report, ResultsRoundTripReaggregateIdentically) {

@@ -46,7 +46,7 @@ TEST_F(PandaTest, FlangeMatchesModifiedDhOverRandomConfigurations) {
   for (int sample = 0; sample < 500; ++sample) {
     std::array<double, 7> q{};
     for (size_t i = 0; i < 7; ++i) {
-      q[i] = rng.uniform(kArmQMin[i], kArmQMax[i]);
+      q[i] = rng.uniform(model.robot.joints[i].q_min, model.robot.joints[i].q_max);
       d->qpos[model.arm_qpos_adr[i]] = q[i];
     }
     mj_kinematics(m, d);
@@ -79,7 +79,7 @@ TEST_F(PandaTest, HandIsMountedRotatedAboutTheFlangeAndTcpIsAlongItsZ) {
   // Hand origin at the flange; TCP 0.1034 m along the hand's z axis.
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(d->xpos[3 * h + k], d->site_xpos[3 * s + k], 1e-9);
   for (int k = 0; k < 3; ++k)
-    EXPECT_NEAR(d->site_xpos[3 * t + k] - d->xpos[3 * h + k], kTcpOffset * d->xmat[9 * h + 3 * k + 2],
+    EXPECT_NEAR(d->site_xpos[3 * t + k] - d->xpos[3 * h + k], 0.1034 * d->xmat[9 * h + 3 * k + 2],
                 1e-9);
   // Hand x axis = flange x rotated -45 deg about the flange z axis.
   Eigen::Matrix3d flange, hand;
@@ -111,15 +111,24 @@ TEST_F(PandaTest, LimitsMassesAndActuatorsFollowTheReference) {
     EXPECT_NEAR(m->body_mass[model.link_body[i]], masses[i], 1e-6) << "link" << i;
   EXPECT_NEAR(m->body_mass[model.hand_body], 0.73, 1e-6);
   for (size_t i = 0; i < 2; ++i) EXPECT_NEAR(m->body_mass[model.finger_body[i]], 0.015, 1e-6);
+  // robots.md's joint position and torque limits.
+  const double q_min[7] = {-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973};
+  const double q_max[7] = {2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973};
+  const double tau_max[7] = {87, 87, 87, 87, 12, 12, 12};
+  ASSERT_EQ(model.robot.name, "panda");
+  ASSERT_EQ(model.robot.dof(), 7u);
+  ASSERT_EQ(model.arm_joint.size(), 7u);
+  ASSERT_EQ(model.link_body.size(), 8u);
   for (size_t i = 0; i < 7; ++i) {
     const int j = model.arm_joint[i];
     EXPECT_EQ(m->jnt_limited[j], 1);
-    EXPECT_DOUBLE_EQ(m->jnt_range[2 * j], kArmQMin[i]);
-    EXPECT_DOUBLE_EQ(m->jnt_range[2 * j + 1], kArmQMax[i]);
+    EXPECT_DOUBLE_EQ(m->jnt_range[2 * j], q_min[i]);
+    EXPECT_DOUBLE_EQ(m->jnt_range[2 * j + 1], q_max[i]);
     const int a = model.arm_actuator[i];
-    EXPECT_DOUBLE_EQ(m->actuator_forcerange[2 * a + 1], kArmTauMax[i]);
-    EXPECT_DOUBLE_EQ(m->actuator_forcerange[2 * a], -kArmTauMax[i]);
+    EXPECT_DOUBLE_EQ(m->actuator_forcerange[2 * a + 1], tau_max[i]);
+    EXPECT_DOUBLE_EQ(m->actuator_forcerange[2 * a], -tau_max[i]);
   }
+  EXPECT_DOUBLE_EQ(model.robot.gripper.max_width(), 0.08);
   for (size_t i = 0; i < 2; ++i) {
     const int j = model.finger_joint[i];
     EXPECT_DOUBLE_EQ(m->jnt_range[2 * j], 0.0);

@@ -22,9 +22,10 @@ TEST(NoopPolicy, HoldsTheRobot) {
   ASSERT_EQ(a.actions.size(), 1u);
   EXPECT_EQ(a.actions[0], (Action{0, 0, 0, 0, 0, 0, 0.5}));
   NoopPolicy joints(ActionSpace::kJointPos);
+  joints.reset(EpisodeInfo{});
   const ActionChunk b = joints.act(observation_at(0));
   EXPECT_EQ(b.actions[0], (Action{0.1, -0.3, 0.0, -2.0, 0.0, 1.8, 0.7, 0.5}));
-  EXPECT_NO_THROW(validate_chunk(b, ActionSpace::kJointPos, ActionLimits{}));
+  EXPECT_NO_THROW(validate_chunk(b, ActionSpace::kJointPos, action_limits(model::panda())));
   EXPECT_FALSE(joints.spec().state_track);
   EXPECT_TRUE(joints.spec().cameras.empty());
 }
@@ -39,13 +40,39 @@ TEST(RandomPolicy, SeededDeterministicAndValid) {
   const ActionChunk a = p.act(observation_at(0));
   EXPECT_EQ(a.actions.size(), 4u);
   EXPECT_EQ(a.actions, q.act(observation_at(0)).actions);
-  EXPECT_NO_THROW(validate_chunk(a, ActionSpace::kJointPos, ActionLimits{}));
+  EXPECT_NO_THROW(validate_chunk(a, ActionSpace::kJointPos, action_limits(model::panda())));
   // Reset restarts the stream; another episode seed gives other actions.
   p.reset(info);
   EXPECT_EQ(p.act(observation_at(0)).actions, a.actions);
   info.seed = 12;
   p.reset(info);
   EXPECT_NE(p.act(observation_at(0)).actions, a.actions);
+}
+
+TEST(NoopPolicy, UnknownRobotIsAnInputError) {
+  NoopPolicy noop(ActionSpace::kJointPos);
+  EpisodeInfo info;
+  info.robot = "so101";
+  try {
+    noop.reset(info);
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "robot: expected one of panda, got 'so101'");
+  }
+}
+
+TEST(RandomPolicy, JointPosSizedAndBoundedByTheEpisodeRobot) {
+  RandomPolicy p(ActionSpace::kJointPos, 3, 1.0);
+  p.reset(EpisodeInfo{});
+  const model::Robot& panda = model::panda();
+  for (int i = 0; i < 20; ++i) {
+    const Action a = p.act(observation_at(0.05 * i)).actions[0];
+    ASSERT_EQ(a.size(), panda.dof() + 1);
+    for (size_t j = 0; j < panda.dof(); ++j) {
+      EXPECT_GE(a[j], panda.joints[j].q_min);
+      EXPECT_LE(a[j], panda.joints[j].q_max);
+    }
+  }
 }
 
 TEST(RandomPolicy, EeDeltaWithinScaledLimits) {

@@ -41,21 +41,22 @@ void move_tcp(const model::Model& model, Data& data, const Pose& target, double 
 TEST_F(ControlTest, JointTargetsAreClampedToLimitsAndTracked) {
   const model::Model model = model::build(model::SceneSpec::Default());
   Data data = make_data(model);
-  ArmVector q = model::kArmHome;
-  q[0] = 5.0;    // beyond +2.8973
-  q[3] = 0.5;    // beyond -0.0698
+  const model::Robot& robot = model.robot;
+  ArmVector q = robot.home();
+  q[0] = robot.joints[0].q_max + 2;  // beyond its limits
+  q[3] = robot.joints[3].q_max + 0.5;
   q[1] = 0.3;
   set_joint_targets(model, data, q);
-  EXPECT_LT(data.q_target[0], model::kArmQMax[0]);
-  EXPECT_GT(data.q_target[0], model::kArmQMax[0] - 0.01);
-  EXPECT_LT(data.q_target[3], model::kArmQMax[3]);
+  EXPECT_LT(data.q_target[0], robot.joints[0].q_max);
+  EXPECT_GT(data.q_target[0], robot.joints[0].q_max - 0.01);
+  EXPECT_LT(data.q_target[3], robot.joints[3].q_max);
   EXPECT_DOUBLE_EQ(data.q_target[1], 0.3);
   run(model, data, 3.0);
   const ArmVector now = arm_joint_positions(model, data);
-  for (size_t i = 0; i < model::kArmDof; ++i) {
+  for (size_t i = 0; i < model.robot.dof(); ++i) {
     EXPECT_NEAR(now[i], data.q_target[i], 0.01) << "joint " << i + 1;
-    EXPECT_LE(now[i], model::kArmQMax[i] + 1e-3);
-    EXPECT_GE(now[i], model::kArmQMin[i] - 1e-3);
+    EXPECT_LE(now[i], model.robot.joints[i].q_max + 1e-3);
+    EXPECT_GE(now[i], model.robot.joints[i].q_min - 1e-3);
   }
   ExpectNoWarnings(data.mj.get());
 }
@@ -99,17 +100,17 @@ TEST_F(ControlTest, EeDeltaRespectsJointLimits) {
     EeDelta delta;
     delta.translation = Vec3(0.05, 0, 0.05);
     const IkResult r = apply_ee_delta(model, data, delta);
-    for (size_t i = 0; i < model::kArmDof; ++i) {
-      EXPECT_LT(r.q_target[i], model::kArmQMax[i]);
-      EXPECT_GT(r.q_target[i], model::kArmQMin[i]);
+    for (size_t i = 0; i < model.robot.dof(); ++i) {
+      EXPECT_LT(r.q_target[i], model.robot.joints[i].q_max);
+      EXPECT_GT(r.q_target[i], model.robot.joints[i].q_min);
     }
     run(model, data, 0.05);
   }
   run(model, data, 1.0);
   const ArmVector q = arm_joint_positions(model, data);
-  for (size_t i = 0; i < model::kArmDof; ++i) {
-    EXPECT_LE(q[i], model::kArmQMax[i] + 2e-3) << "joint " << i + 1;
-    EXPECT_GE(q[i], model::kArmQMin[i] - 2e-3) << "joint " << i + 1;
+  for (size_t i = 0; i < model.robot.dof(); ++i) {
+    EXPECT_LE(q[i], model.robot.joints[i].q_max + 2e-3) << "joint " << i + 1;
+    EXPECT_GE(q[i], model.robot.joints[i].q_min - 2e-3) << "joint " << i + 1;
   }
   ExpectNoWarnings(data.mj.get());
 }

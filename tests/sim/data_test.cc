@@ -40,7 +40,7 @@ TEST_F(DataTest, HomePoseIsCollisionFreeAndStableForTwoSeconds) {
   run(model, data, 1000);
   EXPECT_NEAR(data.time(), 2.0, 1e-9);
   const ArmVector q = arm_joint_positions(model, data);
-  for (size_t i = 0; i < model::kArmDof; ++i) EXPECT_NEAR(q[i], model::kArmHome[i], 1e-3) << i;
+  for (size_t i = 0; i < model.robot.dof(); ++i) EXPECT_NEAR(q[i], model.robot.joints[i].home, 1e-3) << i;
   EXPECT_LT((tcp_pose(model, data).translation - tcp0.translation).norm(), 1e-3);
   EXPECT_NEAR(gripper_width(model, data), 0.08, 1e-4);
   for (size_t k = 0; k < model.objects.size(); ++k) {
@@ -108,7 +108,7 @@ TEST_F(DataTest, ResetRestoresTheStartStateAndIsDeterministic) {
   const int nq = model.m()->nq;
   std::vector<mjtNum> qpos0(a.mj->qpos, a.mj->qpos + nq);
   // Disturb a, then reset it.
-  ArmVector q = model::kArmHome;
+  ArmVector q = model.robot.home();
   q[0] = 0.5;
   set_joint_targets(model, a, q);
   human::SkeletonPose pose = model.human_start;
@@ -118,7 +118,7 @@ TEST_F(DataTest, ResetRestoresTheStartStateAndIsDeterministic) {
   reset(model, a);
   EXPECT_EQ(a.time(), 0.0);
   EXPECT_EQ(std::memcmp(a.mj->qpos, qpos0.data(), sizeof(mjtNum) * static_cast<size_t>(nq)), 0);
-  EXPECT_EQ(a.q_target, model::kArmHome);
+  EXPECT_EQ(a.q_target, model.robot.home());
   // Same commands from the same state: bit-identical trajectories.
   for (Data* d : {&a, &b}) {
     set_joint_targets(model, *d, q);
@@ -158,7 +158,7 @@ TEST_F(DataTest, HumanSweepingThroughTheRobotMakesContactsAndStaysStable) {
   set_human_pose(model, data, model.human_start);
   for (int i = 0; i < 1000; ++i) step(model, data);
   const ArmVector q = arm_joint_positions(model, data);
-  for (size_t i = 0; i < model::kArmDof; ++i) EXPECT_NEAR(q[i], model::kArmHome[i], 0.05) << i;
+  for (size_t i = 0; i < model.robot.dof(); ++i) EXPECT_NEAR(q[i], model.robot.joints[i].home, 0.05) << i;
   ExpectNoWarnings(data.mj.get());
 }
 
