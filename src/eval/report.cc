@@ -291,7 +291,6 @@ struct ConstantRange {
 };
 ConstantRange constant_range(std::string_view name) {
   if (name == "confidence") return {0.0, true, 1.0 - 1e-12, "a level in (0, 1)"};
-  if (name == "wilson_z") return {0.0, true, 10.0, "a quantile in (0, 10]"};
   if (name == "bootstrap_resamples") return {1.0, false, 1e6, "a whole count from 1 to 1000000"};
   return {0.0, false, 1e6, "a number in [0, 1e6]"};
 }
