@@ -36,6 +36,7 @@ class EpisodeBuilder {
       s.X_WE.translation = core::Vec3(0.4, 0, 1.0);
       s.gripper_width = 0.08;
       s.object_poses.resize(2);
+      s.lid_angles.assign(2, 0.0);
       s.separation = std::numeric_limits<double>::infinity();
       s.predicates.assign(log_.predicate_names.size(), 0);
       log_.steps.push_back(s);
