@@ -6,8 +6,16 @@
 // With --pool DIR [--split eval|adapt|test] the episodes are those of a generated pool's split
 // (gen/pool.h: re-sampled from the manifest's seeds and checked against its hashes) instead of
 // sampled seeds; the results' options name the pool and its version.
+// With --save-logs each episode's log is written to DIR/logs/TASK__POLICY__SEED__HASH.hlog
+// (eval/episode_log.h; by an observer of the episode, atomically: temporary name + rename).
+//
+// Reuse: each worker thread makes one instance of each policy for the whole run and resets it
+// for every episode (Policy::reset). Each episode has its own scene, hence its own MuJoCo model,
+// Data and renderers (a renderer holds the model's textures and meshes); nothing is built twice
+// per episode (the contract's home TCP comes from the episode's own Data).
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -27,6 +35,7 @@
 #include "cli/command.h"
 #include "core/errors.h"
 #include "core/paths.h"
+#include "eval/episode.h"
 #include "eval/metrics.h"
 #include "eval/parallel.h"
 #include "eval/report.h"
@@ -60,6 +69,7 @@ struct EvalOptions {
   std::string pool;            // a pool folder, or empty: sample seeds
   std::string split = "eval";  // with pool
   bool sampling_flags = false; // --episodes or --seed given
+  bool save_logs = false;      // write DIR/logs/*.hlog
 };
 
 std::vector<std::string> split_list(const std::string& text) {
@@ -79,14 +89,33 @@ struct Job {
   std::string key;
 };
 
+// The policies of one worker thread: one instance per reference for the whole run.
+using WorkerPolicies = std::map<std::string, std::unique_ptr<policy::Policy>>;
+
+// The log file of an episode: DIR/logs/TASK__POLICY__SEED__HASH.hlog, with characters a file
+// name should not hold in a policy reference (openpi://host:8000) replaced by '_'.
+fs::path log_path(const fs::path& dir, const Job& job) {
+  std::string name = job.spec->task + "__" + job.policy + "__" + std::to_string(job.spec->seed) +
+                     "__" + job.hash.substr(0, 12) + ".hlog";
+  for (char& c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
+  }
+  return dir / "logs" / name;
+}
+
 // One episode; trouble (a scene the model cannot build, any exception) -> invalid with reason.
-eval::EpisodeResult run_one(const Job& job, const eval::RunOptions& base) {
+eval::EpisodeResult run_one(const Job& job, const eval::RunOptions& base, WorkerPolicies& policies,
+                            const std::optional<fs::path>& log_file) {
   const script::EpisodeSpec& spec = *job.spec;
   try {
-    std::unique_ptr<policy::Policy> policy = policy::make_policy(job.policy);
+    std::unique_ptr<policy::Policy>& policy = policies[job.policy];
+    if (!policy) policy = policy::make_policy(job.policy);
     const eval::EpisodeSetup setup{spec.task, spec.role,        job.hash,
                                    spec.seed, spec.instruction, job.policy};
-    const eval::ScoredEpisode scored = eval::run_task_episode(spec, *policy, setup, base);
+    std::optional<eval::LogFileWriter> writer;
+    std::vector<eval::EpisodeObserver*> observers;
+    if (log_file) observers.push_back(&writer.emplace(*log_file));
+    const eval::ScoredEpisode scored = eval::run_task_episode(spec, *policy, setup, base, observers);
     return eval::make_result(scored.log, scored.metrics);
   } catch (const std::exception& e) {
     eval::EpisodeResult result;
@@ -128,6 +157,7 @@ std::vector<eval::EpisodeResult> prepare_out(const EvalOptions& o, const nlohman
                              "summary.csv"}) {
       fs::remove(dir / name);
     }
+    fs::remove_all(dir / "logs");
   } else if (has_run && !o.resume) {
     throw core::InputError::Message(
         "--out", o.out + " already holds a run; use --resume to continue it or --force to replace it");
@@ -235,11 +265,18 @@ int run_eval(const EvalOptions& o) {
 
   // Run, appending each episode as it finishes, with a one-line progress indicator.
   const fs::path lines_file = fs::path(o.out) / "episodes.jsonl";
+  if (o.save_logs) fs::create_directories(fs::path(o.out) / "logs");
+  std::vector<WorkerPolicies> worker_policies(static_cast<size_t>(o.threads));
   const auto start = std::chrono::steady_clock::now();
   size_t done = 0;
   const std::vector<eval::EpisodeResult> results = eval::run_jobs(
       todo.size(), o.threads,
-      [&](size_t job, int) { return run_one(all_jobs[todo[job]], run_options); },
+      [&](size_t job, int worker) {
+        const Job& j = all_jobs[todo[job]];
+        const std::optional<fs::path> log_file =
+            o.save_logs ? std::optional<fs::path>(log_path(o.out, j)) : std::nullopt;
+        return run_one(j, run_options, worker_policies[static_cast<size_t>(worker)], log_file);
+      },
       [&](size_t, const eval::EpisodeResult& result) {
         eval::append_episode_line(lines_file, result);
         ++done;
@@ -280,6 +317,8 @@ HRIB_REGISTER_COMMAND(
       app.add_option("--out", o->out, "Output folder")->required();
       app.add_flag("--resume", o->resume, "Continue the run in --out (same options)");
       app.add_flag("--force", o->force, "Replace the run in --out");
+      app.add_flag("--save-logs", o->save_logs,
+                   "Write each episode's log to DIR/logs/*.hlog (hribench's binary episode log)");
       return [o, episodes, seed] {
         o->sampling_flags = episodes->count() > 0 || seed->count() > 0;
         return run_eval(*o);

@@ -4,8 +4,9 @@
 //
 // With `--task FILE [--seed N] [--at TIME|EVENT[+S]] [--policy REF]`: a still of a moment of a
 // task episode. The episode is sampled (script::sample), its scene built
-// (eval::scene_spec_from_episode), and run with eval::run_episode + eval::ScriptDriver and the
-// policy up to the first control step at or after the moment, whose state is rendered.
+// (eval::scene_spec_from_episode) into an eval::Episode, and run by eval::run_episode with the
+// policy up to the first control step at or after the moment (an observer watches for it),
+// whose state is rendered.
 //
 // `--camera free` is a documentation view: a free camera looking at the shared workspace a
 // little from the person's right and the robot's front, so the robot, the table and the
@@ -34,6 +35,7 @@
 #include "core/errors.h"
 #include "eval/episode_log.h"
 #include "eval/runner.h"
+#include "eval/episode.h"
 #include "eval/script_driver.h"
 #include "model/model.h"
 #include "policy/registry.h"
@@ -143,83 +145,62 @@ std::string event_names(const eval::EpisodeLog& log) {
   return fmt::format("{}", fmt::join(names, ", "));
 }
 
-// A sampled task episode ready to run: its model and simulation state.
-struct TaskEpisode {
-  script::EpisodeSpec spec;
-  std::string task_id;  // file stem, e.g. "I1_point_pick"
-  model::Model model;
-  sim::Data data;
-};
-
 struct RenderedMoment {
   double time = 0;   // s, the state rendered
   std::string what;  // how the moment was chosen, for the summary line
 };
 
-// Thrown out of run_episode (through the driver's observe) once the moment is reached, so the
-// simulation state is that of the moment.
-struct MomentReached {};
-
-// The episode's ScriptDriver, watching for the moment: after each control step's observation
-// (state current), ends the run by throwing MomentReached once the step's time is at or past
-// the moment (an event's time is known once the event has been observed).
-class MomentWatch : public eval::ScenarioDriver {
+// Watches an episode for the moment --at names: after each step (events observed, state
+// current), reached() once the step's time is at or past the moment (an event's time is known
+// once the event has been observed).
+class MomentWatch : public eval::EpisodeObserver {
  public:
-  MomentWatch(eval::ScriptDriver& script, const Moment& moment) : script_(script), moment_(moment) {
+  explicit MomentWatch(const Moment& moment) : moment_(moment) {
     if (moment.time) stop_at_ = moment.time;
   }
-  std::vector<std::string> predicate_names() const override { return script_.predicate_names(); }
-  void reset(const model::Model& model, sim::Data& data) override { script_.reset(model, data); }
-  void drive(const model::Model& model, sim::Data& data) override { script_.drive(model, data); }
-  void observe(const model::Model& model, const sim::Data& data, std::vector<uint8_t>& predicates,
-               std::vector<eval::Event>& events) override {
-    const size_t seen = events.size();
-    script_.observe(model, data, predicates, events);
-    for (size_t i = seen; i < events.size() && !stop_at_; ++i) {
-      const eval::Event& e = events[i];
+  void on_step(const eval::Episode& episode, const eval::StepRecord& step) override {
+    const std::vector<eval::Event>& events = episode.log().events;
+    for (; seen_ < events.size(); ++seen_) {
+      const eval::Event& e = events[seen_];
+      if (stop_at_) continue;
       if (moment_.event == "cue" ? e.kind == eval::EventKind::kCue : e.name == moment_.event) {
         stop_at_ = e.time + moment_.offset;
         what_ = fmt::format("{} at {:.2f} s{}", e.name, e.time,
                             moment_.offset > 0 ? fmt::format(" + {} s", moment_.offset) : "");
       }
     }
-    if (stop_at_ && data.time() >= *stop_at_ - 1e-9) throw MomentReached{};
+    reached_ = stop_at_ && step.time >= *stop_at_ - 1e-9;
   }
-  std::shared_ptr<const script::EpisodeSpec> episode() const override { return script_.episode(); }
-
+  bool reached() const { return reached_; }
   const std::string& what() const { return what_; }
 
  private:
-  eval::ScriptDriver& script_;
   Moment moment_;
+  size_t seen_ = 0;                // events already looked at
   std::optional<double> stop_at_;  // s
+  bool reached_ = false;
   std::string what_;               // the event found
 };
 
-// Runs the episode from reset up to the moment --at names and leaves that state in
-// episode.data. Throws core::InputError when the episode ends before it.
-RenderedMoment run_to_moment(TaskEpisode& episode, const RenderOptions& o) {
+// Runs the episode from reset up to the moment --at names (run_episode until it is reached),
+// leaving that state in the episode's data. Throws core::InputError when the episode ends
+// before it.
+RenderedMoment run_to_moment(eval::Episode& episode, const std::string& task_id,
+                             const RenderOptions& o) {
+  const script::EpisodeSpec& spec = *episode.spec();
   const Moment moment = parse_moment(o.at);
-  if (moment.time && *moment.time > episode.spec.horizon) {
+  if (moment.time && *moment.time > spec.horizon) {
     throw core::InputError(
-        "--at", fmt::format("a time within the episode's horizon [0, {}] s", episode.spec.horizon),
-        o.at);
+        "--at", fmt::format("a time within the episode's horizon [0, {}] s", spec.horizon), o.at);
   }
-  eval::ScriptDriver script(episode.spec);
-  MomentWatch watch(script, moment);
+  MomentWatch watch(moment);
+  episode.add_observer(watch);
   std::unique_ptr<policy::Policy> policy = policy::make_policy(o.policy);
-  eval::RunOptions options;
-  options.stop_on_success = false;  // a moment after success is still a moment
-  options.horizon = episode.spec.horizon;
-  const eval::EpisodeSetup setup{episode.spec.task,        episode.spec.role,
-                                 script::spec_hash(episode.spec), episode.spec.seed,
-                                 episode.spec.instruction, o.policy};
-  eval::EpisodeLog log;
-  try {
-    log = eval::run_episode(episode.model, episode.data, *policy, watch, setup, options);
-  } catch (const MomentReached&) {
-    const double t = episode.data.time();
-    return {t, moment.time ? fmt::format("t = {} s", o.at) : watch.what()};
+  const eval::EpisodeLog& log = eval::run_episode(
+      episode, *policy, [&](const eval::Episode&) { return watch.reached(); });
+  episode.remove_observer(watch);
+  if (watch.reached()) {
+    return {episode.data().time(), moment.time ? fmt::format("t = {} s", o.at) : watch.what()};
   }
   // The run ended without reaching the moment.
   const double end = log.steps.empty() ? 0.0 : log.steps.back().time;
@@ -230,12 +211,11 @@ RenderedMoment run_to_moment(TaskEpisode& episode, const RenderOptions& o) {
   }
   if (!watch.what().empty()) {  // the event plus the offset lies past the horizon
     throw core::InputError::Message(
-        "--at", fmt::format("{}: past the episode's horizon ({} s)", watch.what(),
-                            episode.spec.horizon));
+        "--at", fmt::format("{}: past the episode's horizon ({} s)", watch.what(), spec.horizon));
   }
   throw core::InputError("--at",
-                         "an event of " + episode.task_id + " seed " + std::to_string(o.seed) +
-                             " with " + o.policy + " (" + event_names(log) + ")",
+                         "an event of " + task_id + " seed " + std::to_string(o.seed) + " with " +
+                             o.policy + " (" + event_names(log) + ")",
                          "'" + moment.event + "'");
 }
 
@@ -298,13 +278,16 @@ int run_render(const RenderOptions& o, bool view_given, bool task_options_given)
   }
   check_writable(o.out);
 
-  std::optional<TaskEpisode> episode;
+  // The default scene, or the task episode run to the moment.
+  std::shared_ptr<const model::Model> model;
+  std::optional<sim::Data> still;        // the default scene's state
+  std::optional<eval::Episode> episode;  // the task's
   std::string summary;
   if (o.task.empty()) {
     model::SceneSpec scene = model::SceneSpec::Default();
     scene.shadows = o.pretty;
-    episode.emplace(TaskEpisode{{}, "", model::build(scene), {}});
-    episode->data = sim::make_data(episode->model);
+    model = std::make_shared<const model::Model>(model::build(scene));
+    still.emplace(sim::make_data(*model));
   } else {
     if (!std::filesystem::is_regular_file(o.task)) {
       throw core::InputError("--task", "a scenario script file", "'" + o.task + "'");
@@ -312,25 +295,31 @@ int run_render(const RenderOptions& o, bool view_given, bool task_options_given)
     script::EpisodeSpec spec = script::sample(script::load_scenario(o.task), o.seed);
     model::SceneSpec scene = eval::scene_spec_from_episode(spec);
     scene.shadows = o.pretty;  // lights only: the physics is the same
-    model::Model model = model::build(scene);
-    episode.emplace(TaskEpisode{std::move(spec), std::filesystem::path(o.task).stem().string(),
-                                std::move(model), {}});
-    episode->data = sim::make_data(episode->model);
+    model = std::make_shared<const model::Model>(model::build(scene));
+    eval::RunOptions options;
+    options.stop_on_success = false;  // a moment after success is still a moment
+    options.horizon = spec.horizon;
+    const policy::PolicySpec policy_spec = policy::make_policy(o.policy)->spec();
+    eval::EpisodeSetup setup = eval::setup_of(spec, o.policy);
+    episode.emplace(std::move(spec), policy_spec, std::move(setup), options, model);
   }
-  const mjModel& m = *episode->model.m();
+  const mjModel& m = *model->m();
   const mjvCamera camera = make_camera(m, o);
-  if (!o.task.empty()) {
-    const RenderedMoment moment = run_to_moment(*episode, o);
-    summary = fmt::format("; {} seed {}{}, {}, {} -> t = {:.2f} s", episode->task_id, o.seed,
-                          episode->spec.variant.empty() ? "" : " (" + episode->spec.variant + ")",
-                          o.policy, moment.what, moment.time);
+  if (episode) {
+    const std::string task_id = std::filesystem::path(o.task).stem().string();
+    const RenderedMoment moment = run_to_moment(*episode, task_id, o);
+    const script::EpisodeSpec& spec = *episode->spec();
+    summary = fmt::format("; {} seed {}{}, {}, {} -> t = {:.2f} s", task_id, o.seed,
+                          spec.variant.empty() ? "" : " (" + spec.variant + ")", o.policy,
+                          moment.what, moment.time);
   }
+  const sim::Data& data = episode ? episode->data() : *still;
 
   auto renderer = render::make_renderer(
       backend, m, o.width, o.height,
       o.pretty ? render::RenderSettings::mujoco_defaults() : render::RenderSettings{});
   render::Image image;
-  renderer->render(m, *episode->data.mj, camera, image);
+  renderer->render(m, *data.mj, camera, image);
   render::write_png(o.out, image);
   std::printf("wrote %s (%dx%d, camera %s, %s: %s)%s\n", o.out.c_str(), o.width, o.height,
               o.camera.c_str(), std::string(render::to_string(backend)).c_str(),

@@ -5,14 +5,12 @@
 #include <functional>
 
 #include "core/rng.h"
-#include "model/robot.h"
 
 namespace hribench::eval {
 
 EpisodeResult make_result(const EpisodeLog& log, EpisodeMetrics metrics) {
-  return EpisodeResult{log.task,      log.role,       log.policy,
-                       std::string(model::kDefaultRobot),   log.spec_hash,  log.seed,
-                       log.status,    log.status_reason,      std::move(metrics)};
+  return EpisodeResult{log.task,   log.role,   log.policy,        log.robot,        log.spec_hash,
+                       log.seed,   log.status, log.status_reason, std::move(metrics)};
 }
 
 Estimate wilson_interval(int successes, int n, double z) {

@@ -28,8 +28,7 @@ struct EpisodeResult {
   std::string status_reason;
   EpisodeMetrics metrics;
 };
-// The log's identity and status with `metrics`. Logs do not name their robot yet: every
-// episode runs the default robot (model::kDefaultRobot) until EpisodeLog records it.
+// The log's identity (its robot included) and status with `metrics`.
 EpisodeResult make_result(const EpisodeLog& log, EpisodeMetrics metrics);
 
 // A value with its 95 % interval over `n` episodes.

@@ -103,11 +103,27 @@ bool same_contact(const Contact& a, const Contact& b) {
          same_bits(a.normal_force, b.normal_force);
 }
 
+bool same_quat(const core::Quat& a, const core::Quat& b) {
+  return same_bits(a.w(), b.w()) && same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()) &&
+         same_bits(a.z(), b.z());
+}
+
+bool same_skeleton_pose(const human::SkeletonPose& a, const human::SkeletonPose& b) {
+  return same_pose(a.X_WP, b.X_WP) && same_range(a.local, b.local, same_quat);
+}
+
 bool same_step(const StepRecord& a, const StepRecord& b) {
   return same_bits(a.time, b.time) && same_range(a.joint_pos, b.joint_pos, same_bits) &&
-         same_pose(a.X_WE, b.X_WE) && same_bits(a.gripper_width, b.gripper_width) &&
+         same_range(a.joint_vel, b.joint_vel, same_bits) && same_pose(a.X_WT, b.X_WT) &&
+         same_bits(a.gripper_width, b.gripper_width) &&
+         same_range(a.finger_pos, b.finger_pos, same_bits) &&
+         same_range(a.action, b.action, same_bits) &&
+         same_range(a.joint_target, b.joint_target, same_bits) &&
+         same_bits(a.gripper_target, b.gripper_target) &&
          same_range(a.human_joints_W, b.human_joints_W, same_vec3) &&
+         same_skeleton_pose(a.human_pose, b.human_pose) &&
          same_range(a.object_poses, b.object_poses, same_pose) &&
+         same_range(a.lid_angles, b.lid_angles, same_bits) &&
          same_bits(a.separation, b.separation) && same_bits(a.approach_speed, b.approach_speed) &&
          same_bits(a.closest_point_speed, b.closest_point_speed) &&
          same_range(a.contacts, b.contacts, same_contact) && a.predicates == b.predicates;
@@ -122,8 +138,9 @@ bool same_event(const Event& a, const Event& b) {
 
 bool identical(const EpisodeLog& a, const EpisodeLog& b) {
   return a.task == b.task && a.role == b.role && a.spec_hash == b.spec_hash && a.seed == b.seed &&
-         a.policy == b.policy && same_bits(a.horizon, b.horizon) &&
-         same_bits(a.control_dt, b.control_dt) && a.object_names == b.object_names &&
+         a.policy == b.policy && a.robot == b.robot && same_bits(a.horizon, b.horizon) &&
+         same_bits(a.control_dt, b.control_dt) && a.action_space == b.action_space &&
+         a.object_names == b.object_names &&
          a.predicate_names == b.predicate_names && same_range(a.steps, b.steps, same_step) &&
          same_range(a.events, b.events, same_event) && a.status == b.status &&
          a.status_reason == b.status_reason;
@@ -141,6 +158,16 @@ void check_episode_log(const EpisodeLog& log, std::string_view where) {
     if (s.object_poses.size() != log.object_names.size()) {
       throw core::InputError(at, fmt::format("{} object poses", log.object_names.size()),
                              fmt::format("{}", s.object_poses.size()));
+    }
+    if (s.lid_angles.size() != log.object_names.size()) {
+      throw core::InputError(at, fmt::format("{} lid angles", log.object_names.size()),
+                             fmt::format("{}", s.lid_angles.size()));
+    }
+    const size_t dim = static_cast<size_t>(policy::action_dim(log.action_space, s.joint_pos.size()));
+    if (!s.action.empty() && s.action.size() != dim) {
+      throw core::InputError(at, fmt::format("no action or {} values ({})", dim,
+                                             policy::to_string(log.action_space)),
+                             fmt::format("{} values", s.action.size()));
     }
     if (s.predicates.size() != log.predicate_names.size()) {
       throw core::InputError(at, fmt::format("{} predicate values", log.predicate_names.size()),
@@ -187,12 +214,19 @@ class Writer {
   void put_vec3(const core::Vec3& v) {
     for (int i = 0; i < 3; ++i) put<double>(v[i]);
   }
+  void put_quat(const core::Quat& q) {
+    put<double>(q.w());
+    put<double>(q.x());
+    put<double>(q.y());
+    put<double>(q.z());
+  }
   void put_pose(const core::Pose& p) {
-    put<double>(p.rotation.w());
-    put<double>(p.rotation.x());
-    put<double>(p.rotation.y());
-    put<double>(p.rotation.z());
+    put_quat(p.rotation);
     put_vec3(p.translation);
+  }
+  void put_doubles(const std::vector<double>& values) {
+    put<uint64_t>(values.size());
+    for (const double v : values) put<double>(v);
   }
   std::string& bytes() { return out_; }
 
@@ -219,11 +253,24 @@ class Reader {
     pos_ += n;
     return s;
   }
-  // A count of items, each at least `min_item_bytes` long (guards absurd sizes).
+  // A count of items, each at least `min_item_bytes` (> 0) long: a count the bytes left cannot
+  // hold is corrupt (so a short file never asks for a huge allocation).
   size_t get_count(const char* what, size_t min_item_bytes) {
     const uint64_t n = get<uint64_t>(what);
-    if (min_item_bytes > 0 && n > (in_.size() - pos_) / min_item_bytes) corrupt(what);
+    if (n > (in_.size() - pos_) / min_item_bytes) corrupt(what);
     return static_cast<size_t>(n);
+  }
+  std::vector<double> get_doubles(const char* what) {
+    std::vector<double> values(get_count(what, sizeof(double)));
+    for (double& v : values) v = get<double>(what);
+    return values;
+  }
+  core::Quat get_quat(const char* what) {
+    const double w = get<double>(what);
+    const double x = get<double>(what);
+    const double y = get<double>(what);
+    const double z = get<double>(what);
+    return core::Quat(w, x, y, z);
   }
   core::Vec3 get_vec3(const char* what) {
     core::Vec3 v;
@@ -232,11 +279,7 @@ class Reader {
   }
   core::Pose get_pose(const char* what) {
     core::Pose p;
-    const double w = get<double>(what);
-    const double x = get<double>(what);
-    const double y = get<double>(what);
-    const double z = get<double>(what);
-    p.rotation = core::Quat(w, x, y, z);
+    p.rotation = get_quat(what);
     p.translation = get_vec3(what);
     return p;
   }
@@ -264,14 +307,35 @@ class Reader {
   std::string where_;
 };
 
+// The fewest bytes each item can take in the payload (empty strings and lists), against which
+// every declared count is checked.
+constexpr size_t kStringBytes = sizeof(uint64_t);
+constexpr size_t kPoseBytes = 7 * sizeof(double);
+constexpr size_t kContactBytes = 2 * kStringBytes + 3 * sizeof(uint8_t) + sizeof(double);
+constexpr size_t kEventBytes = sizeof(double) + 2 * sizeof(uint8_t) + 2 * kStringBytes;
+size_t min_step_bytes(const EpisodeLog& log) {
+  const size_t objects = log.object_names.size();
+  return sizeof(double)                                  // time
+         + 2 * sizeof(uint64_t)                          // joint positions, velocities
+         + kPoseBytes + sizeof(double) + 2 * sizeof(double)  // X_WT, gripper, fingers
+         + 2 * sizeof(uint64_t) + sizeof(double)         // action, joint targets, gripper target
+         + human::kNumJoints * 3 * sizeof(double)        // human joint positions
+         + kPoseBytes + human::kNumJoints * 4 * sizeof(double)  // human skeleton pose
+         + objects * (kPoseBytes + sizeof(double))       // object poses, lid angles
+         + 3 * sizeof(double) + sizeof(uint64_t)         // separation, speeds, contact count
+         + log.predicate_names.size();                   // predicate values
+}
+
 void write_payload(const EpisodeLog& log, Writer& w) {
   w.put_string(log.task);
   w.put_string(log.role);
   w.put_string(log.spec_hash);
   w.put<uint64_t>(log.seed);
   w.put_string(log.policy);
+  w.put_string(log.robot);
   w.put<double>(log.horizon);
   w.put<double>(log.control_dt);
+  w.put<uint8_t>(static_cast<uint8_t>(log.action_space));
   w.put<uint64_t>(log.object_names.size());
   for (const std::string& n : log.object_names) w.put_string(n);
   w.put<uint64_t>(log.predicate_names.size());
@@ -281,12 +345,19 @@ void write_payload(const EpisodeLog& log, Writer& w) {
   w.put<uint64_t>(log.steps.size());
   for (const StepRecord& s : log.steps) {
     w.put<double>(s.time);
-    w.put<uint64_t>(s.joint_pos.size());
-    for (const double q : s.joint_pos) w.put<double>(q);
-    w.put_pose(s.X_WE);
+    w.put_doubles(s.joint_pos);
+    w.put_doubles(s.joint_vel);
+    w.put_pose(s.X_WT);
     w.put<double>(s.gripper_width);
+    for (const double f : s.finger_pos) w.put<double>(f);
+    w.put_doubles(s.action);
+    w.put_doubles(s.joint_target);
+    w.put<double>(s.gripper_target);
     for (const core::Vec3& p : s.human_joints_W) w.put_vec3(p);
+    w.put_pose(s.human_pose.X_WP);
+    for (const core::Quat& q : s.human_pose.local) w.put_quat(q);
     for (const core::Pose& p : s.object_poses) w.put_pose(p);
+    for (const double a : s.lid_angles) w.put<double>(a);
     w.put<double>(s.separation);
     w.put<double>(s.approach_speed);
     w.put<double>(s.closest_point_speed);
@@ -318,28 +389,38 @@ EpisodeLog read_payload(Reader& r) {
   log.spec_hash = r.get_string("spec_hash");
   log.seed = r.get<uint64_t>("seed");
   log.policy = r.get_string("policy");
+  log.robot = r.get_string("robot");
   log.horizon = r.get<double>("horizon");
   log.control_dt = r.get<double>("control_dt");
-  log.object_names.resize(r.get_count("object count", 8));
+  log.action_space = r.get_enum<policy::ActionSpace>("action space", 2);
+  log.object_names.resize(r.get_count("object count", kStringBytes));
   for (std::string& n : log.object_names) n = r.get_string("object name");
-  log.predicate_names.resize(r.get_count("predicate count", 8));
+  log.predicate_names.resize(r.get_count("predicate count", kStringBytes));
   for (std::string& n : log.predicate_names) n = r.get_string("predicate name");
   log.status = r.get_enum<core::EpisodeStatus>("status", 3);
   log.status_reason = r.get_string("status reason");
-  log.steps.resize(r.get_count("step count", 8));
+  log.steps.resize(r.get_count("step count", min_step_bytes(log)));
   for (StepRecord& s : log.steps) {
     s.time = r.get<double>("step time");
-    s.joint_pos.resize(r.get_count("joint count", 8));
-    for (double& q : s.joint_pos) q = r.get<double>("joint position");
-    s.X_WE = r.get_pose("end-effector pose");
+    s.joint_pos = r.get_doubles("joint positions");
+    s.joint_vel = r.get_doubles("joint velocities");
+    s.X_WT = r.get_pose("end-effector pose");
     s.gripper_width = r.get<double>("gripper width");
+    for (double& f : s.finger_pos) f = r.get<double>("finger position");
+    s.action = r.get_doubles("action");
+    s.joint_target = r.get_doubles("joint targets");
+    s.gripper_target = r.get<double>("gripper target");
     for (core::Vec3& p : s.human_joints_W) p = r.get_vec3("human joint");
+    s.human_pose.X_WP = r.get_pose("human root pose");
+    for (core::Quat& q : s.human_pose.local) q = r.get_quat("human joint rotation");
     s.object_poses.resize(log.object_names.size());
     for (core::Pose& p : s.object_poses) p = r.get_pose("object pose");
+    s.lid_angles.resize(log.object_names.size());
+    for (double& a : s.lid_angles) a = r.get<double>("lid angle");
     s.separation = r.get<double>("separation");
     s.approach_speed = r.get<double>("approach speed");
     s.closest_point_speed = r.get<double>("closest-point speed");
-    s.contacts.resize(r.get_count("contact count", 8));
+    s.contacts.resize(r.get_count("contact count", kContactBytes));
     for (Contact& c : s.contacts) {
       c.robot_part = r.get_string("contact robot part");
       c.robot_finger = r.get<uint8_t>("contact finger flag") != 0;
@@ -358,7 +439,7 @@ EpisodeLog read_payload(Reader& r) {
       if (b > 1) r.corrupt("predicate value");
     }
   }
-  log.events.resize(r.get_count("event count", 8));
+  log.events.resize(r.get_count("event count", kEventBytes));
   for (Event& e : log.events) {
     e.time = r.get<double>("event time");
     e.kind = r.get_enum<EventKind>("event kind", 8);
@@ -394,7 +475,7 @@ EpisodeLog decode_episode_log(std::string_view bytes, std::string_view where) {
   const uint32_t version = header.get<uint32_t>("format version");
   if (version != kEpisodeLogVersion) {
     throw core::InputError(w, fmt::format("episode log format version {}", kEpisodeLogVersion),
-                           fmt::format("version {}", version));
+                           fmt::format("format version {}", version));
   }
   const uint64_t size = header.get<uint64_t>("payload size");
   const size_t head = sizeof(kMagic) + sizeof(uint32_t) + sizeof(uint64_t);
@@ -421,10 +502,17 @@ EpisodeLog decode_episode_log(std::string_view bytes, std::string_view where) {
 
 void save_episode_log(const EpisodeLog& log, const std::filesystem::path& path) {
   const std::string bytes = encode_episode_log(log);
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  std::filesystem::path temp = path;
+  temp += ".tmp";
+  std::ofstream out(temp, std::ios::binary | std::ios::trunc);
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   out.close();
-  if (!out) throw core::InputError::Message(path.string(), "cannot write the episode log");
+  std::error_code error;
+  if (out) std::filesystem::rename(temp, path, error);
+  if (!out || error) {
+    std::filesystem::remove(temp, error);
+    throw core::InputError::Message(path.string(), "cannot write the episode log");
+  }
 }
 
 EpisodeLog load_episode_log(const std::filesystem::path& path) {

@@ -9,7 +9,14 @@
 //
 // Files: save_episode_log / load_episode_log use a compact little-endian binary format:
 //   "HRIBLOG\0" | u32 format version | u64 payload size | payload | u64 FNV-1a of payload.
-// Doubles are stored bit for bit, so a reloaded log is identical to the saved one.
+// Doubles are stored bit for bit, so a reloaded log is identical to the saved one. A file of
+// another format version is refused (core::InputError naming both versions); docs/episode.md
+// describes the fields.
+//
+// Version 2 (this one) adds to each step what the robot was told (the action, the servo
+// targets, the gripper command), joint velocities, finger positions, lid angles and the human's
+// full skeleton pose, so a log alone re-renders (pose_from_step, eval/episode.h), replays and
+// makes a dataset.
 
 #include <array>
 #include <cstdint>
@@ -22,10 +29,11 @@
 #include "core/errors.h"
 #include "core/math.h"
 #include "human/skeleton.h"
+#include "policy/policy.h"
 
 namespace hribench::eval {
 
-inline constexpr uint32_t kEpisodeLogVersion = 1;
+inline constexpr uint32_t kEpisodeLogVersion = 2;
 
 // What the robot touched.
 enum class ContactOther {
@@ -57,11 +65,26 @@ inline std::array<core::Vec3, human::kNumJoints> zero_joints() {
 struct StepRecord {
   double time = 0;                      // s
   std::vector<double> joint_pos;        // robot arm joint positions, rad
-  core::Pose X_WE;                      // end effector (TCP) pose
-  double gripper_width = 0;             // m
+  std::vector<double> joint_vel;        // robot arm joint velocities, rad/s
+  core::Pose X_WT;                      // end effector (TCP) pose
+  double gripper_width = 0;             // m, the two fingers' opening
+  std::array<double, 2> finger_pos{};   // m, left and right finger slide positions
+  // What the robot was told over the interval (t_{k-1}, t_k] that ends at this step:
+  // the action applied at its start, in EpisodeLog::action_space (empty at step 0 and while
+  // the previous command is held, e.g. while the policy thinks under a latency), and the
+  // servo targets in force: arm joint targets (rad) and the gripper command (opening, m).
+  policy::Action action;
+  std::vector<double> joint_target;
+  double gripper_target = 0;
   // SMPL joint positions (zero when there is no human).
   std::array<core::Vec3, human::kNumJoints> human_joints_W = zero_joints();
+  // The human's full skeleton pose shown at this step: root X_WP and each joint's rotation
+  // relative to its parent (the rest pose when there is no human).
+  human::SkeletonPose human_pose;
   std::vector<core::Pose> object_poses; // X_WO, aligned with EpisodeLog::object_names
+  // Articulation of each object, aligned with object_names: a box's lid hinge angle, rad
+  // (0 = closed); 0 for objects without one.
+  std::vector<double> lid_angles;
   // d(t): minimum distance between any robot geom and any human geom, m (+infinity when
   // there is no human). Negative = penetration.
   double separation = 0;
@@ -107,8 +130,10 @@ struct EpisodeLog {
   std::string spec_hash;  // content hash of the EpisodeSpec
   uint64_t seed = 0;
   std::string policy;     // policy reference, e.g. "noop"
+  std::string robot;      // the robot description's name (model/robot.h), e.g. "panda"
   double horizon = 0;     // s
   double control_dt = 0;  // s
+  policy::ActionSpace action_space = policy::ActionSpace::kEeDelta;  // of StepRecord::action
   // Names of the per-step series.
   std::vector<std::string> object_names;     // StepRecord::object_poses
   std::vector<std::string> predicate_names;  // StepRecord::predicates
@@ -138,10 +163,12 @@ void check_episode_log(const EpisodeLog& log, std::string_view where);
 
 // Binary encoding (format above).
 std::string encode_episode_log(const EpisodeLog& log);
-// Throws core::InputError (where = `where`) for a truncated, corrupt or foreign byte string.
+// Throws core::InputError (where = `where`) for a truncated, corrupt or foreign byte string,
+// or one of another format version.
 EpisodeLog decode_episode_log(std::string_view bytes, std::string_view where);
 
-// File round trip. save throws core::InputError if the file cannot be written.
+// File round trip. save writes a temporary file next to `path` and renames it over `path`
+// (a reader never sees half a log); it throws core::InputError if the file cannot be written.
 void save_episode_log(const EpisodeLog& log, const std::filesystem::path& path);
 EpisodeLog load_episode_log(const std::filesystem::path& path);
 

@@ -29,7 +29,7 @@ TimeSet sustained_runs(const EpisodeLog& log, const std::function<bool(size_t)>&
 double dt(const EpisodeLog& log, size_t k) { return log.steps[k].time - log.steps[k - 1].time; }
 
 core::Vec3 ee_velocity(const EpisodeLog& log, size_t k) {
-  return (log.steps[k].X_WE.translation - log.steps[k - 1].X_WE.translation) / dt(log, k);
+  return (log.steps[k].X_WT.translation - log.steps[k - 1].X_WT.translation) / dt(log, k);
 }
 
 double gripper_rate(const EpisodeLog& log, size_t k) {
@@ -63,7 +63,7 @@ TimeSet toward_time(const EpisodeLog& log, const core::Vec3& goal_W, const Metri
       log,
       [&](size_t k) {
         // Direction to the goal from where the interval started.
-        const core::Vec3 to_goal = goal_W - log.steps[k - 1].X_WE.translation;
+        const core::Vec3 to_goal = goal_W - log.steps[k - 1].X_WT.translation;
         const double distance = to_goal.norm();
         if (distance < c.goal_reached_distance) return false;
         return ee_velocity(log, k).dot(to_goal / distance) > c.response_speed;

@@ -27,7 +27,8 @@ struct StartPositions {
   core::Vec3 home = core::Vec3::Zero();            // TCP
 };
 
-StartPositions start_positions(const script::ActGraph& graph, const model::Model& model) {
+StartPositions start_positions(const script::ActGraph& graph, const model::Model& model,
+                               const core::Vec3& p_WT_home) {
   StartPositions p;
   for (const std::string& name : graph.objects) {
     const int o = model.object_index(name);
@@ -43,9 +44,7 @@ StartPositions start_positions(const script::ActGraph& graph, const model::Model
       p.objects.push_back(std::nullopt);
     }
   }
-  sim::Data data = sim::make_data(model);
-  sim::reset(model, data);
-  p.home = sim::tcp_pose(model, data).translation;
+  p.home = p_WT_home;
   p.palms.fill(core::Vec3::Zero());
   if (model.has_human) {
     const auto X_WJ = human::forward_kinematics(model.skeleton, model.human_start);
@@ -165,10 +164,17 @@ ScenarioContract contract_from_act_graph(const script::ActGraph& graph) {
 
 ScenarioContract contract_from_episode(const script::EpisodeSpec& spec,
                                        const script::ActGraph& graph, const model::Model& model) {
+  sim::Data data = sim::make_data(model);
+  return contract_from_episode(spec, graph, model, sim::tcp_pose(model, data).translation);
+}
+
+ScenarioContract contract_from_episode(const script::EpisodeSpec& spec,
+                                       const script::ActGraph& graph, const model::Model& model,
+                                       const core::Vec3& p_WT_home) {
   ScenarioContract contract = contract_from_act_graph(graph);
   const auto name = [&](int event) { return graph.event_names.at(static_cast<size_t>(event)); };
   // Goal positions of robot acts, in order (contract.robot_acts follows graph.acts order).
-  const StartPositions at = start_positions(graph, model);
+  const StartPositions at = start_positions(graph, model, p_WT_home);
   std::set<int> carried;
   size_t r = 0;
   bool first = true;

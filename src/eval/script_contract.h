@@ -49,7 +49,13 @@ ScenarioContract contract_from_act_graph(const script::ActGraph& graph);
 
 // `graph` compiled from `spec`, `model` built from scene_spec_from_episode(spec). Throws
 // core::InputError for a contact permit whose human part names no capsule.
+// The robot's home TCP (a start position of robot goals) is computed on a fresh Data; the
+// second form takes it (p_WT_home, world, m: the TCP right after sim::reset, e.g. from the
+// episode's own Data) and makes no Data.
 ScenarioContract contract_from_episode(const script::EpisodeSpec& spec,
                                        const script::ActGraph& graph, const model::Model& model);
+ScenarioContract contract_from_episode(const script::EpisodeSpec& spec,
+                                       const script::ActGraph& graph, const model::Model& model,
+                                       const core::Vec3& p_WT_home);
 
 }  // namespace hribench::eval

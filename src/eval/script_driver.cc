@@ -219,10 +219,19 @@ human::PrimitiveParams primitive_params(
 }
 
 ScriptDriver::ScriptDriver(script::EpisodeSpec spec)
-    : spec_(std::move(spec)),
-      episode_(std::make_shared<const script::EpisodeSpec>(spec_)),
-      graph_(script::compile(spec_)),
-      runtime_(script::make_runtime(graph_)) {
+    : ScriptDriver(std::make_shared<const script::EpisodeSpec>(std::move(spec))) {}
+
+ScriptDriver::ScriptDriver(std::shared_ptr<const script::EpisodeSpec> spec)
+    : script_(compile(std::move(spec))), runtime_(script::make_runtime(script_->graph)) {}
+
+std::shared_ptr<const ScriptDriver::Script> ScriptDriver::compile(
+    std::shared_ptr<const script::EpisodeSpec> spec) {
+  auto compiled = std::make_shared<Script>();
+  compiled->graph = script::compile(*spec);
+  compiled->spec = std::move(spec);
+  const script::ActGraph& graph_ = compiled->graph;
+  std::vector<EventInfo>& event_info_ = compiled->event_info;
+  std::vector<std::string>& predicate_names_ = compiled->predicate_names;
   // What each event id means in the log.
   event_info_.resize(graph_.event_names.size());
   for (size_t i = 0; i < event_info_.size(); ++i) event_info_[i].name = graph_.event_names[i];
@@ -259,23 +268,24 @@ ScriptDriver::ScriptDriver(script::EpisodeSpec spec)
       if (colon != std::string::npos) info.name = info.name.substr(0, colon);
     }
   }
+  return compiled;
 }
 
 void ScriptDriver::reset(const model::Model& model, sim::Data& data) {
-  script::reset(graph_, runtime_);
-  motions_.assign(graph_.acts.size(), ActMotion{});
+  script::reset(script_->graph, runtime_);
+  motions_.assign(script_->graph.acts.size(), ActMotion{});
   active_ = -1;
   last_holding_ = {};
   holding_plan_ = {-1, -1};
   events_seen_ = 0;
   // Graph objects in the model: objects, or platforms (fixed).
-  object_of_graph_.assign(graph_.objects.size(), -1);
-  platform_of_graph_.assign(graph_.objects.size(), -1);
-  world_.objects.assign(graph_.objects.size(), script::ObjectState{});
-  for (size_t i = 0; i < graph_.objects.size(); ++i) {
+  object_of_graph_.assign(script_->graph.objects.size(), -1);
+  platform_of_graph_.assign(script_->graph.objects.size(), -1);
+  world_.objects.assign(script_->graph.objects.size(), script::ObjectState{});
+  for (size_t i = 0; i < script_->graph.objects.size(); ++i) {
     script::ObjectState& state = world_.objects[i];
-    const int index = model.object_index(graph_.objects[i]);
-    const int platform = model.platform_index(graph_.objects[i]);
+    const int index = model.object_index(script_->graph.objects[i]);
+    const int platform = model.platform_index(script_->graph.objects[i]);
     if (index >= 0) {
       object_of_graph_[i] = index;
       const size_t o = static_cast<size_t>(index);
@@ -288,7 +298,7 @@ void ScriptDriver::reset(const model::Model& model, sim::Data& data) {
       state.half_extents = info.half_extents;
       state.p_WO_initial = info.X_WC.translation;
     } else {
-      throw core::InputError::Message(object_where(graph_.objects[i]),
+      throw core::InputError::Message(object_where(script_->graph.objects[i]),
                                       "not in the model (build it with scene_spec_from_episode)");
     }
   }
@@ -423,7 +433,7 @@ void ScriptDriver::start_plan(const model::Model& model, const sim::Data& data, 
   ActMotion& motion = motions_[act];
   motion.start = runtime_.acts[act].start;
   motion.phase = 0;
-  const std::optional<script::Motion>& spec_motion = spec_.acts[act].value.motion;
+  const std::optional<script::Motion>& spec_motion = script_->spec->acts[act].value.motion;
   if (!model.has_human || !spec_motion) return;
   if (spec_motion->clip) {
     start_clip(model, data, act);
@@ -431,17 +441,17 @@ void ScriptDriver::start_plan(const model::Model& model, const sim::Data& data, 
   }
   if (!spec_motion->primitive) return;
   const auto centre = [&](const std::string& name) {
-    for (size_t i = 0; i < graph_.objects.size(); ++i) {
-      if (graph_.objects[i] == name) return world_.objects[i].X_WO.translation;
+    for (size_t i = 0; i < script_->graph.objects.size(); ++i) {
+      if (script_->graph.objects[i] == name) return world_.objects[i].X_WO.translation;
     }
-    throw core::InputError("acts." + spec_.acts[act].name + ".motion", "a scene object", name);
+    throw core::InputError("acts." + script_->spec->acts[act].name + ".motion", "a scene object", name);
   };
   motion.plan.emplace(human::plan_motion(model.skeleton, data.human_pose,
-                                         primitive_params(spec_, act, centre)));
+                                         primitive_params(*script_->spec, act, centre)));
   for (size_t h = 0; h < 2; ++h) motion.moves[h] = moves_hand(*motion.plan, h);
   motion.moves_root = moves_root(*motion.plan);
   // Waiting phases the runtime does not hold open end at their nominal time.
-  const script::CompiledAct& compiled = graph_.acts[act];
+  const script::CompiledAct& compiled = script_->graph.acts[act];
   for (const human::Segment& segment : motion.plan->segments()) {
     if (!segment.waits || segment.phase.empty()) continue;
     bool held_open = false;
@@ -454,7 +464,7 @@ void ScriptDriver::start_plan(const model::Model& model, const sim::Data& data, 
 
 void ScriptDriver::start_clip(const model::Model& model, const sim::Data& data, size_t act) {
   ActMotion& motion = motions_[act];
-  const script::Motion& spec_motion = *spec_.acts[act].value.motion;
+  const script::Motion& spec_motion = *script_->spec->acts[act].value.motion;
   human::RetargetOptions options;
   options.height = model.skeleton.height;
   human::Clip clip = human::read_clip(spec_motion.clip->value(), options);
@@ -476,7 +486,7 @@ void ScriptDriver::start_clip(const model::Model& model, const sim::Data& data, 
 void ScriptDriver::update_signals(size_t act) {
   ActMotion& motion = motions_[act];
   const script::ActState& state = runtime_.acts[act];
-  const std::vector<script::CompiledPhase>& phases = graph_.acts[act].phases;
+  const std::vector<script::CompiledPhase>& phases = script_->graph.acts[act].phases;
   size_t reached = motion.phase;
   double at = world_.time;
   if (state.status == script::ActStatus::kRunning) {
@@ -484,7 +494,7 @@ void ScriptDriver::update_signals(size_t act) {
     at = state.phase_start;
   } else if (state.status == script::ActStatus::kDone) {
     reached = phases.size();
-    const int end = graph_.acts[act].end_event;
+    const int end = script_->graph.acts[act].end_event;
     if (end >= 0 && std::isfinite(runtime_.event_time[static_cast<size_t>(end)])) {
       at = runtime_.event_time[static_cast<size_t>(end)];
     }
@@ -500,10 +510,10 @@ void ScriptDriver::update_signals(size_t act) {
 void ScriptDriver::observe(const model::Model& model, const sim::Data& data,
                            std::vector<uint8_t>& predicates, std::vector<Event>& events) {
   fill_world(model, data);
-  script::step(graph_, runtime_, world_);
+  script::step(script_->graph, runtime_, world_);
   // Plans for human acts that started; the latest started act moves the body.
-  for (size_t i = 0; i < graph_.acts.size(); ++i) {
-    if (!graph_.acts[i].human) continue;
+  for (size_t i = 0; i < script_->graph.acts.size(); ++i) {
+    if (!script_->graph.acts[i].human) continue;
     const script::ActStatus status = runtime_.acts[i].status;
     if (status == script::ActStatus::kWaiting || status == script::ActStatus::kSkipped) continue;
     if (!motions_[i].started) {
@@ -518,26 +528,26 @@ void ScriptDriver::observe(const model::Model& model, const sim::Data& data,
   // New runtime events.
   for (; events_seen_ < runtime_.events.size(); ++events_seen_) {
     const script::Event& e = runtime_.events[events_seen_];
-    if (e.id < 0 || static_cast<size_t>(e.id) >= event_info_.size()) continue;
-    const EventInfo& info = event_info_[static_cast<size_t>(e.id)];
+    if (e.id < 0 || static_cast<size_t>(e.id) >= script_->event_info.size()) continue;
+    const EventInfo& info = script_->event_info[static_cast<size_t>(e.id)];
     events.push_back(Event{e.time, info.kind, info.actor, info.name, info.detail});
     if (!info.cue_kind.empty()) events.push_back(Event{e.time, EventKind::kCue, Actor::kHuman, info.name, info.cue_kind});
   }
-  bool success = !graph_.success.empty();
-  for (const int p : graph_.success) success = success && runtime_.value[static_cast<size_t>(p)] != 0;
-  predicates.assign(predicate_names_.size(), 0);
+  bool success = !script_->graph.success.empty();
+  for (const int p : script_->graph.success) success = success && runtime_.value[static_cast<size_t>(p)] != 0;
+  predicates.assign(script_->predicate_names.size(), 0);
   predicates[0] = success ? 1 : 0;
-  if (predicate_names_.size() == 3) {
+  if (script_->predicate_names.size() == 3) {
     // intent: once a contradicting act has started, the success predicates (they state the
     // latest intent); before, the instruction is the latest intent: the contradicted act's
     // goal. contradicted: the goal of a robot act that a started human act contradicts holds.
     bool contradicted = false;
     bool given = false;
     bool instructed = true;
-    for (size_t i = 0; i < graph_.acts.size(); ++i) {
-      const script::CompiledAct& act = graph_.acts[i];
+    for (size_t i = 0; i < script_->graph.acts.size(); ++i) {
+      const script::CompiledAct& act = script_->graph.acts[i];
       if (!act.human || act.contradicts < 0) continue;
-      const int goal = graph_.acts[static_cast<size_t>(act.contradicts)].goal;
+      const int goal = script_->graph.acts[static_cast<size_t>(act.contradicts)].goal;
       const bool holds = goal >= 0 && runtime_.value[static_cast<size_t>(goal)] != 0;
       const script::ActStatus status = runtime_.acts[i].status;
       if (status != script::ActStatus::kRunning && status != script::ActStatus::kDone) {

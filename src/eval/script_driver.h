@@ -73,26 +73,36 @@ human::PrimitiveParams primitive_params(
     const script::EpisodeSpec& spec, size_t act,
     const std::function<core::Vec3(const std::string&)>& object_centre);
 
+// Model and data (docs/episode.md): what is fixed for the episode — the sampled spec, the
+// compiled act graph, what each event id means, the predicate series — is compiled once and
+// shared (read-only) by every copy; the state — the act-graph runtime, the world snapshot it
+// reads, the human's started motion plans and clips, the holds' labels, the events already
+// logged, the robot's home TCP — is the driver's own, so copying a ScriptDriver (clone) copies
+// the scenario's state and both copies continue identically.
 class ScriptDriver : public ScenarioDriver {
  public:
   // Compiles the spec's act graph (throws core::InputError like script::compile). The model
   // passed to reset/drive/observe must be built from scene_spec_from_episode(spec).
   explicit ScriptDriver(script::EpisodeSpec spec);
+  explicit ScriptDriver(std::shared_ptr<const script::EpisodeSpec> spec);
 
   // "success"; with an act that contradicts a robot act (I5) also "intent" (once a
   // contradicting act has started = success: the script's success predicates state the latest
   // intent; before, the instruction is: the contradicted robot act's goal holds) and
   // "contradicted" (the goal of a robot act that a started human act contradicts holds), the
   // series the CIR metric and, for such scripts, CSR read.
-  std::vector<std::string> predicate_names() const override { return predicate_names_; }
+  std::vector<std::string> predicate_names() const override { return script_->predicate_names; }
   void reset(const model::Model& model, sim::Data& data) override;
   void drive(const model::Model& model, sim::Data& data) override;
   void observe(const model::Model& model, const sim::Data& data,
                std::vector<uint8_t>& predicates, std::vector<Event>& events) override;
 
-  std::shared_ptr<const script::EpisodeSpec> episode() const override { return episode_; }
+  std::shared_ptr<const script::EpisodeSpec> episode() const override { return script_->spec; }
+  std::unique_ptr<ScenarioDriver> clone() const override {
+    return std::make_unique<ScriptDriver>(*this);
+  }
 
-  const script::ActGraph& graph() const { return graph_; }
+  const script::ActGraph& graph() const { return script_->graph; }
   const script::RuntimeState& runtime() const { return runtime_; }
 
  private:
@@ -125,15 +135,20 @@ class ScriptDriver : public ScenarioDriver {
   void start_clip(const model::Model& model, const sim::Data& data, size_t act);
   void update_signals(size_t act);
 
-  script::EpisodeSpec spec_;
-  std::shared_ptr<const script::EpisodeSpec> episode_;  // a shared copy of spec_
-  script::ActGraph graph_;
+  // The model: fixed for the episode, shared by copies.
+  struct Script {
+    std::shared_ptr<const script::EpisodeSpec> spec;
+    script::ActGraph graph;
+    std::vector<EventInfo> event_info;       // per event id
+    std::vector<std::string> predicate_names;
+  };
+  static std::shared_ptr<const Script> compile(std::shared_ptr<const script::EpisodeSpec> spec);
+  std::shared_ptr<const Script> script_;
+  // The data: the scenario's state (copied with the driver).
   script::RuntimeState runtime_;
   script::WorldSnapshot world_;
-  std::vector<EventInfo> event_info_;       // per event id
   std::vector<int> object_of_graph_;        // graph object -> model object index, -1: platform
   std::vector<int> platform_of_graph_;      // graph object -> model platform index, -1: object
-  std::vector<std::string> predicate_names_;
   std::vector<ActMotion> motions_;          // per act
   int active_ = -1;                         // act whose plan poses the body, -1 none
   std::array<std::string, 2> last_holding_; // label of each hand at the last physics step

@@ -19,6 +19,17 @@ Data make_data(const model::Model& model) {
   return data;
 }
 
+void copy_data(const model::Model& model, const Data& from, Data& to) {
+  HRIB_CHECK(from.mj && to.mj) << "copy_data between Data made by make_data";
+  mj_copyData(to.mj.get(), model.m(), from.mj.get());
+  to.q_target = from.q_target;
+  to.gripper_width_target = from.gripper_width_target;
+  to.human_pose = from.human_pose;
+  to.X_WJ = from.X_WJ;
+  to.human_pose_dirty = from.human_pose_dirty;
+  to.hold = from.hold;
+}
+
 void reset(const model::Model& model, Data& data) {
   reset(model, data, model.has_human ? model.human_start : human::SkeletonPose());
 }

@@ -68,6 +68,11 @@ struct Data {
 // Allocates a Data for `model` and resets it (reset()).
 Data make_data(const model::Model& model);
 
+// Copies the whole state of `from` into `to` (both made for `model` by make_data): MuJoCo's
+// state with mj_copyData, the controller targets, the human pose and holds. Stepping both on
+// with the same inputs gives the same states bit for bit. Allocation-free.
+void copy_data(const model::Model& model, const Data& from, Data& to);
+
 // Resets to the start of an episode without allocating: the robot at the home keyframe
 // (fingers open, servo targets = home), objects at their spec poses (held objects in the hand),
 // the human at model.human_start, time 0, warning counts cleared; then mj_forward.

@@ -6,13 +6,16 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "eval/episode_log.h"
 #include "support/run_command.h"
 #include "support/test_files.h"
 
@@ -104,6 +107,36 @@ TEST_F(EvalRunTest, ReportPrintsATableNamingThePolicy) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("|"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("noop"), std::string::npos) << r.output;
+}
+
+// --save-logs writes each episode's log next to the results; a reloaded log re-scores to the
+// results' metrics (same CT and success) and names its episode.
+TEST(EvalCommandTest, SaveLogsWritesOneLogPerEpisode) {
+  const std::string dir = temp_dir("logs");
+  const auto run = run_hribench("eval --tasks I4 --policy noop,reactive --episodes 1 --seed 3 "
+                                "--horizon 2 --threads 2 --save-logs --out " + dir);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::vector<fs::path> logs;
+  for (const auto& entry : fs::directory_iterator(fs::path(dir) / "logs")) logs.push_back(entry.path());
+  std::sort(logs.begin(), logs.end());
+  ASSERT_EQ(logs.size(), 2u);
+  const nlohmann::json results = nlohmann::json::parse(read_text(fs::path(dir) / "results.json"));
+  for (const nlohmann::json& episode : results.at("episodes")) {
+    const std::string stem = "stop_go__" + episode.at("policy").get<std::string>() + "__3__" +
+                             episode.at("spec_hash").get<std::string>().substr(0, 12) + ".hlog";
+    const fs::path path = fs::path(dir) / "logs" / stem;
+    ASSERT_TRUE(fs::exists(path)) << stem;
+    const eval::EpisodeLog log = eval::load_episode_log(path);
+    EXPECT_EQ(log.policy, episode.at("policy"));
+    EXPECT_EQ(log.spec_hash, episode.at("spec_hash"));
+    EXPECT_EQ(log.steps.size(), 41u);
+    EXPECT_FALSE(log.steps.back().action.empty());
+  }
+  // --force replaces the logs with the new run's.
+  const auto again = run_hribench("eval --tasks I4 --policy noop --episodes 1 --seed 3 --horizon 2 "
+                                   "--force --out " + dir);
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_FALSE(fs::exists(fs::path(dir) / "logs"));
 }
 
 TEST(EvalCommandTest, UnknownTaskIsOneLine) {

@@ -33,9 +33,10 @@ class EpisodeBuilder {
       StepRecord s;
       s.time = k * dt;
       s.joint_pos = {0, -0.3, 0, -2.2, 0, 1.9, 0.8};
-      s.X_WE.translation = core::Vec3(0.4, 0, 1.0);
+      s.X_WT.translation = core::Vec3(0.4, 0, 1.0);
       s.gripper_width = 0.08;
       s.object_poses.resize(2);
+      s.lid_angles.assign(2, 0.0);
       s.separation = std::numeric_limits<double>::infinity();
       s.predicates.assign(log_.predicate_names.size(), 0);
       log_.steps.push_back(s);
@@ -46,7 +47,7 @@ class EpisodeBuilder {
   EpisodeBuilder& move_x(double from, double to, double speed) {
     for (StepRecord& s : log_.steps) {
       const double t = std::min(std::max(s.time, from), to);
-      if (s.time > from) s.X_WE.translation.x() += speed * (t - from);
+      if (s.time > from) s.X_WT.translation.x() += speed * (t - from);
     }
     return *this;
   }

@@ -5,10 +5,12 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
 #include "core/errors.h"
+#include "core/rng.h"
 #include "eval/episode_builder.h"
 #include "eval/metrics.h"
 
@@ -28,6 +30,16 @@ EpisodeLog rich_log() {
   EpisodeLog log = b.log();
   log.steps[3].human_joints_W[5] = core::Vec3(0.1, 1.0 / 3.0, -2e-300);
   log.steps[4].object_poses[1].rotation = core::Quat(0.5, 0.5, -0.5, 0.5);
+  // What the robot was told, velocities, the lid and the skeleton's rotations.
+  log.action_space = policy::ActionSpace::kJointPos;
+  log.steps[5].action = {0.1, -0.2, 0.3, -2.0, 0.0, 1.5, 0.7, 1.0};
+  log.steps[5].joint_target = {0.1, -0.2, 0.3, -2.0, 0.0, 1.5, 0.7};
+  log.steps[5].gripper_target = 0.08;
+  log.steps[5].joint_vel = {1e-3, 0, 0, 0, 0, 0, -2.5};
+  log.steps[5].finger_pos = {0.04, 0.0399999};
+  log.steps[6].lid_angles[1] = 1.0 / 7.0;
+  log.steps[6].human_pose.X_WP.translation = core::Vec3(1.2, 0.1, 0.9);
+  log.steps[6].human_pose.local[3] = core::Quat(0.8, 0.6, 0, 0);
   log.events.back().detail = "grasped(robot, cube)";
   log.status = core::EpisodeStatus::kPolicyError;
   log.status_reason = "non_finite: action 0 value 1: nan";
@@ -67,6 +79,21 @@ TEST(EpisodeLog, IdenticalComparesEveryField) {
   other.steps[2].object_poses[1].rotation.w() = -0.0;
   other.steps[2].object_poses[1].rotation.x() = 0.0;
   EXPECT_FALSE(identical(log, other));  // w flipped from 1 to -0
+  other = log;
+  other.steps[6].human_pose.local[3].y() = 1e-300;
+  EXPECT_FALSE(identical(log, other));
+  other = log;
+  other.steps[6].lid_angles[1] = 0;
+  EXPECT_FALSE(identical(log, other));
+  other = log;
+  other.steps[5].action[7] = 0.5;
+  EXPECT_FALSE(identical(log, other));
+  other = log;
+  other.steps[5].joint_vel[6] = -2.4;
+  EXPECT_FALSE(identical(log, other));
+  other = log;
+  other.action_space = policy::ActionSpace::kEeDelta;
+  EXPECT_FALSE(identical(log, other));
   other = log;
   other.events[1].detail = "x";
   EXPECT_FALSE(identical(log, other));
@@ -132,10 +159,78 @@ TEST(EpisodeLog, CorruptFileIsAClearError) {
     decode_episode_log(future, "f.hlog");
     FAIL();
   } catch (const core::InputError& e) {
-    EXPECT_STREQ(e.what(), "f.hlog: expected episode log format version 1, got version 9");
+    EXPECT_STREQ(e.what(), "f.hlog: expected episode log format version 2, got format version 9");
+  }
+  // A version-1 file (before actions, velocities and skeleton poses were logged).
+  std::string old = encode_episode_log(rich_log());
+  old[8] = 1;
+  try {
+    decode_episode_log(old, "v1.hlog");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "v1.hlog: expected episode log format version 2, got format version 1");
   }
   std::string trailing = encode_episode_log(rich_log()) + "x";
   EXPECT_THROW(decode_episode_log(trailing, "t"), core::InputError);
+}
+
+// Re-encodes a payload with a valid header and checksum, so only the payload's counts are
+// tested.
+std::string with_payload(const std::string& payload) {
+  std::string bytes("HRIBLOG\0", 8);
+  const uint32_t version = kEpisodeLogVersion;
+  bytes.append(reinterpret_cast<const char*>(&version), sizeof(version));
+  const uint64_t size = payload.size();
+  bytes.append(reinterpret_cast<const char*>(&size), sizeof(size));
+  bytes += payload;
+  const uint64_t sum = core::fnv1a64(payload);
+  bytes.append(reinterpret_cast<const char*>(&sum), sizeof(sum));
+  return bytes;
+}
+
+TEST(EpisodeLog, DeclaredCountsAreCheckedAgainstTheBytesLeft) {
+  // A log of no steps, then its step count raised: each step needs far more than 8 bytes
+  // (the human pose alone is 22 x 7 doubles), so a count the remaining bytes cannot hold is
+  // corrupt before anything is allocated.
+  EpisodeLog log = rich_log();
+  log.steps.clear();
+  log.events.clear();
+  const std::string bytes = encode_episode_log(log);
+  std::string payload = bytes.substr(20, bytes.size() - 28);
+  // The step count sits before the event count (the last 8 bytes).
+  const size_t at = payload.size() - 16;
+  uint64_t steps = 0;
+  std::memcpy(&steps, payload.data() + at, sizeof(steps));
+  ASSERT_EQ(steps, 0u);
+  payload += std::string(2000, '\0');  // room for 250 counts of 8 bytes, not for 2 steps
+  steps = 2;
+  std::memcpy(payload.data() + at, &steps, sizeof(steps));
+  try {
+    decode_episode_log(with_payload(payload), "big.hlog");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("big.hlog: corrupt episode log (bad step count at byte", 0), 0u)
+        << e.what();
+  }
+}
+
+TEST(EpisodeLog, SaveReplacesAtomically) {
+  const auto path = temp_file("atomic.hlog");
+  save_episode_log(rich_log(), path);
+  EpisodeLog other = rich_log();
+  other.seed = 99;
+  save_episode_log(other, path);
+  EXPECT_EQ(load_episode_log(path).seed, 99u);
+  std::filesystem::path temp = path;
+  temp += ".tmp";
+  EXPECT_FALSE(std::filesystem::exists(temp));
+  std::filesystem::remove(path);
+  try {
+    save_episode_log(other, "/nonexistent/dir/ep.hlog");
+    FAIL();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "/nonexistent/dir/ep.hlog: cannot write the episode log");
+  }
 }
 
 TEST(EpisodeLog, MissingFileIsAClearError) {

@@ -209,8 +209,8 @@ TEST(OracleTrace, DISABLED_Trace) {
       return !c.robot_finger || c.other_kind != ContactOther::kObject;
     });
     if (i % 5 != 0 && !touching && std::getenv("HRIB_ALL") == nullptr) continue;
-    std::printf("t %5.2f tcp %6.3f %6.3f %6.3f w %.3f sep %.3f", s.time, s.X_WE.translation.x(),
-                s.X_WE.translation.y(), s.X_WE.translation.z(), s.gripper_width, s.separation);
+    std::printf("t %5.2f tcp %6.3f %6.3f %6.3f w %.3f sep %.3f", s.time, s.X_WT.translation.x(),
+                s.X_WT.translation.y(), s.X_WT.translation.z(), s.gripper_width, s.separation);
     for (const Contact& c : s.contacts) {
       if (!c.robot_finger || c.other_kind != ContactOther::kObject) {
         std::printf(" [%s|%s %.0fN]", c.robot_part.c_str(), c.other.c_str(), c.normal_force);

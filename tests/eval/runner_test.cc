@@ -142,7 +142,7 @@ TEST_F(RunnerTest, NoopEpisodeIsCompleteStillAndDeterministic) {
   EXPECT_TRUE(std::isfinite(log.steps.back().separation));
   EXPECT_GT(log.steps.back().separation, 0.3);
   // The held robot barely moves.
-  const double drift = (log.steps.back().X_WE.translation - log.steps.front().X_WE.translation).norm();
+  const double drift = (log.steps.back().X_WT.translation - log.steps.front().X_WT.translation).norm();
   EXPECT_LT(drift, 0.005);
   const EpisodeMetrics m = compute_metrics(ScenarioContract{}, log);
   EXPECT_GT(*m.r_idle, 0.9);

@@ -1,0 +1,278 @@
+#pragma once
+// The episode as an object the caller steps (docs/episode.md): one compiled episode model
+// (MuJoCo model, the scenario's act graph, everything fixed per episode) plus its data (the
+// physics state, the scenario runtime, the log so far), with reset / observe / step / log /
+// metrics, observers called at every control step, and a snapshot that continues
+// identically. The runner (eval/runner.h), `hribench render --at` and anything else that runs
+// an episode are loops over it; the log is written through it, never by a second loop.
+//
+// Control at 1 / control_dt (20 Hz), physics at 500 Hz (model::kTimestep). Step k of the log
+// describes the world at time k * control_dt; a step executes one action (or holds the last
+// command) over one control interval. The episode ends at the horizon, once "success" has held
+// for MetricConstants::success_hold (stop_on_success), on a MuJoCo warning (status invalid),
+// or when the caller ends it (end(), e.g. a policy error).
+//
+// Same spec + same actions => the same log, bit for bit, whoever steps it.
+//
+// What a scenario adds to the bare simulation (the human's motion, events, predicate truths)
+// comes from a ScenarioDriver; a task episode's is a ScriptDriver (eval/script_driver.h).
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "eval/constants.h"
+#include "eval/contract.h"
+#include "eval/episode_log.h"
+#include "eval/metrics.h"
+#include "model/model.h"
+#include "policy/policy.h"
+#include "render/gl_context.h"
+#include "render/renderer.h"
+#include "script/scenario.h"
+#include "sim/data.h"
+#include "sim/separation.h"
+
+namespace hribench::eval {
+
+enum class LatencyMode { kNone, kFixed, kMeasured };
+
+struct Latency {
+  LatencyMode mode = LatencyMode::kNone;
+  double fixed_seconds = 0;  // kFixed only, >= 0
+};
+
+class ScenarioDriver {
+ public:
+  virtual ~ScenarioDriver() = default;
+  // Names of the predicate series this driver reports (the contract's "success" among them).
+  virtual std::vector<std::string> predicate_names() const = 0;
+  // Called after sim::reset at the start of an episode.
+  virtual void reset(const model::Model& model, sim::Data& data) = 0;
+  // Before every physics step: pose the human for data.time() (sim::set_human_pose).
+  virtual void drive(const model::Model& model, sim::Data& data) = 0;
+  // After every control step (derived quantities current): the truth of each predicate series
+  // (aligned with predicate_names) and the events that happened since the last call
+  // (appended to `events`, times <= data.time()).
+  virtual void observe(const model::Model& model, const sim::Data& data,
+                       std::vector<uint8_t>& predicates, std::vector<Event>& events) = 0;
+  // The sampled episode behind this driver, for privileged policies (null: none).
+  virtual std::shared_ptr<const script::EpisodeSpec> episode() const { return nullptr; }
+  // A copy of the driver's whole state (an Episode's snapshot); null: this driver cannot be
+  // copied, and neither can an episode it drives.
+  virtual std::unique_ptr<ScenarioDriver> clone() const { return nullptr; }
+};
+
+// No script: the human (if any) stands at its start pose; one series, "success", never true.
+class StandingHumanDriver : public ScenarioDriver {
+ public:
+  std::vector<std::string> predicate_names() const override { return {"success"}; }
+  void reset(const model::Model&, sim::Data&) override {}
+  void drive(const model::Model&, sim::Data&) override {}
+  void observe(const model::Model&, const sim::Data&, std::vector<uint8_t>& predicates,
+               std::vector<Event>&) override {
+    predicates.assign(1, 0);
+  }
+  std::unique_ptr<ScenarioDriver> clone() const override {
+    return std::make_unique<StandingHumanDriver>(*this);
+  }
+};
+
+// Identity of the episode, copied into the log and EpisodeInfo.
+struct EpisodeSetup {
+  std::string task;
+  std::string role;
+  std::string spec_hash;
+  uint64_t seed = 0;
+  std::string instruction;
+  std::string policy;  // the policy reference, e.g. "noop"
+};
+// The setup of a sampled episode (its content hash, script::spec_hash) run by `policy`.
+EpisodeSetup setup_of(const script::EpisodeSpec& spec, std::string policy);
+
+struct RunOptions {
+  double control_dt = 0.05;  // s; a whole number of physics steps
+  double horizon = 30.0;     // s; <= 0 for an episode made from a spec: the script's horizon
+  Latency latency;           // the runner's (eval/runner.h); an Episode itself never waits
+  bool stop_on_success = true;  // end once "success" has held for constants.success_hold
+  MetricConstants constants;
+  // GL back end for the cameras a policy asks for (one renderer per requested camera, made for
+  // this episode's model). kNone refuses camera-asking policies.
+  render::Backend render_backend = render::Backend::kOsmesa;
+};
+
+// What one step of an Episode returns.
+struct StepResult {
+  policy::Observation observation;  // of the state after the step
+  bool done = false;                // the episode has ended (step no more; reset() restarts)
+  core::EpisodeStatus status = core::EpisodeStatus::kOk;
+  std::string info;  // why it ended: "horizon", "success held", the status reason; else ""
+};
+
+class Episode;
+
+// Called by an Episode as it runs (non-owning; the observer outlives the episode's run):
+// on_start after reset() has recorded step 0's identity (the log header, no steps yet),
+// on_step for every StepRecord as it is appended to the log (step 0 included; the events up to
+// it are already in episode.log().events), on_end once the episode is done (status final).
+class EpisodeObserver {
+ public:
+  virtual ~EpisodeObserver() = default;
+  virtual void on_start(const Episode&) {}
+  virtual void on_step(const Episode&, const StepRecord&) {}
+  virtual void on_end(const Episode&) {}
+};
+
+// Writes the episode's log to `path` when the episode ends (save_episode_log: a temporary file
+// renamed over `path`). Throws core::InputError from on_end if it cannot be written.
+class LogFileWriter : public EpisodeObserver {
+ public:
+  explicit LogFileWriter(std::filesystem::path path) : path_(std::move(path)) {}
+  void on_end(const Episode& episode) override;
+
+ private:
+  std::filesystem::path path_;
+};
+
+class EpisodeSnapshot;
+
+class Episode {
+ public:
+  // A sampled task episode: builds its scene's model (scene_spec_from_episode) unless `model`
+  // is given (built from that scene, e.g. with shadows for a picture), a Data and a
+  // ScriptDriver; metrics() scores it against the episode's full contract. `policy` describes
+  // what is observed (cameras, state and privileged tracks) and the action space; `setup`
+  // names the episode in the log (setup_of(spec, "name")). options.horizon <= 0: the script's.
+  // Throws core::InputError when the scene cannot be built or the script does not compile,
+  // and for options it cannot honour (see below).
+  Episode(script::EpisodeSpec spec, const policy::PolicySpec& policy, EpisodeSetup setup,
+          RunOptions options, std::shared_ptr<const model::Model> model = nullptr);
+  // Any model, Data and driver (borrowed: they outlive the episode; the data is the episode's
+  // state). metrics() needs a spec: it throws core::InputError here.
+  Episode(const model::Model& model, sim::Data& data, ScenarioDriver& driver,
+          const policy::PolicySpec& policy, EpisodeSetup setup, RunOptions options);
+  // A copy continues exactly as the original would (it owns a copy of the data and driver,
+  // shares the model); observers are not copied. Needs a driver that clones.
+  Episode(const Episode& other);
+  Episode& operator=(const Episode&) = delete;
+  ~Episode();
+
+  // Starts the episode from sim::reset: records step 0. Observers' on_start, on_step(step 0).
+  void reset();
+  // The observation of the current state (the latest step): proprioception always, camera
+  // images (rendered now) for the cameras the policy asked for, the state track and the
+  // privileged track (events so far) when asked.
+  policy::Observation observe();
+  // Executes one action for one control step (then the observation after it). Throws
+  // core::InputError for an action of the wrong size, non-finite or outside the limits
+  // (expected and got named), and when the episode is done or not reset.
+  StepResult step(const policy::Action& action);
+  // Executes the chunk's actions, one per control step, until it is exhausted or the episode
+  // ends. Throws core::InputError for a chunk of another action space or a bad action.
+  StepResult step(const policy::ActionChunk& chunk);
+  // One control step with the previous command held (the servo targets stay).
+  StepResult hold();
+  // The runner's form of step / hold: one control step without building an observation
+  // (action null: hold). The action must already be valid. Returns done().
+  bool advance(const policy::Action* action);
+  // Ends the episode with `status` (e.g. kPolicyError when the policy failed) and `reason`.
+  void end(core::EpisodeStatus status, std::string reason);
+
+  bool done() const { return done_; }
+  const EpisodeLog& log() const { return log_; }
+  // Metrics of the log so far (eval/metrics.h) against the episode's contract.
+  EpisodeMetrics metrics() const;
+  // What a policy may know before its first observation (its reset).
+  // The bounds an action must respect: the robot's (policy::action_limits(model().robot)).
+  policy::ActionLimits action_limits() const;
+  policy::EpisodeInfo info() const;
+  const policy::PolicySpec& policy_spec() const { return policy_; }
+  const EpisodeSetup& setup() const { return setup_; }
+  const RunOptions& options() const { return options_; }
+  const model::Model& model() const { return *model_; }
+  const sim::Data& data() const { return *data_; }
+  // The sampled spec (null for an episode of a bare driver).
+  const std::shared_ptr<const script::EpisodeSpec>& spec() const { return spec_; }
+
+  // Observers, called in the order added (non-owning).
+  void add_observer(EpisodeObserver& observer);
+  void remove_observer(EpisodeObserver& observer);
+
+  // A copy of the episode's whole state (physics, scenario runtime, log), and its restoration:
+  // the episode then continues exactly as it would have from the snapshot's moment. restore
+  // throws core::InputError when the snapshot is of an episode of another spec (expected and
+  // got spec hash). Observers are not part of the state (none is called by restore).
+  EpisodeSnapshot snapshot() const;
+  void restore(const EpisodeSnapshot& snapshot);
+
+ private:
+  struct Scratch;
+  void init();
+  void record(const policy::Action* action);
+  void finish(core::EpisodeStatus status, std::string reason);
+  StepResult result();
+  void check_running(std::string_view what) const;
+  void check_action(const policy::Action& action, std::string_view where) const;
+
+  // Model (fixed for the episode).
+  std::shared_ptr<const script::EpisodeSpec> spec_;
+  std::shared_ptr<const model::Model> own_model_;
+  const model::Model* model_ = nullptr;
+  std::shared_ptr<const ScenarioContract> contract_;  // task episodes
+  policy::PolicySpec policy_;
+  EpisodeSetup setup_;
+  RunOptions options_;
+  int substeps_ = 0;    // physics steps per control step
+  int max_steps_ = 0;   // control steps to the horizon
+  sim::SeparationMonitor monitor_;
+  std::unique_ptr<Scratch> scratch_;  // cameras (renderers for this model), contact scratch
+  // Data (the state).
+  std::unique_ptr<sim::Data> own_data_;
+  sim::Data* data_ = nullptr;
+  std::unique_ptr<ScenarioDriver> own_driver_;
+  ScenarioDriver* driver_ = nullptr;
+  EpisodeLog log_;
+  int steps_ = 0;                         // control steps taken since reset
+  bool started_ = false;                  // reset() was called
+  bool done_ = false;
+  std::string end_info_;                  // StepResult::info once done
+  std::optional<double> success_since_;   // start of the current run of "success" steps
+  std::vector<EpisodeObserver*> observers_;
+};
+
+// A copy of an Episode's state (Episode::snapshot); copyable, independent of the episode.
+class EpisodeSnapshot {
+ public:
+  EpisodeSnapshot(const EpisodeSnapshot& other);
+  EpisodeSnapshot(EpisodeSnapshot&&) noexcept;
+  EpisodeSnapshot& operator=(EpisodeSnapshot) = delete;
+  ~EpisodeSnapshot();
+  const std::string& spec_hash() const { return spec_hash_; }
+  double time() const;
+
+ private:
+  friend class Episode;
+  EpisodeSnapshot() = default;
+  std::string spec_hash_;
+  const model::Model* model_ = nullptr;
+  std::unique_ptr<sim::Data> data_;
+  std::unique_ptr<ScenarioDriver> driver_;
+  EpisodeLog log_;
+  int steps_ = 0;
+  bool started_ = false;
+  bool done_ = false;
+  std::string end_info_;
+  std::optional<double> success_since_;
+};
+
+// Poses `data` (made for `model`, the model of the logged episode) as the log's step `s`:
+// robot joints and fingers, object poses and lids, the human's skeleton pose, the time; then
+// sim::forward. A frame rendered from it equals the live render at that step.
+void pose_from_step(const model::Model& model, const EpisodeLog& log, const StepRecord& s,
+                    sim::Data& data);
+
+}  // namespace hribench::eval
