@@ -45,7 +45,7 @@ TEST(MotionCommandTest, GeneratesAPrimitiveAndRendersAStrip) {
 
 TEST(MotionCommandTest, ImportsTheCmuClipPlacedAndSlowed) {
   const fs::path out = out_dir() / "cmu.bvh";
-  const auto r = run_hribench("motion ../shared/data/motion/cmu_131_01.bvh --place 1,2,90 --time-scale 2 --out " +
+  const auto r = run_hribench("motion tests/data/motion/cmu_131_01.bvh --place 1,2,90 --time-scale 2 --out " +
                               out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const human::Clip c = human::read_clip(out);
@@ -118,7 +118,7 @@ TEST(MotionCommandTest, OutOfRangeFlagsAreOneLine) {
       {"--unit=-0.01", "--unit: expected a positive number of metres per file unit (e.g. 0.01), got -0.01"},
   };
   for (const auto& c : cases) {
-    for (const char* source : {"point", "../shared/data/motion/cmu_131_01.bvh"}) {
+    for (const char* source : {"point", "tests/data/motion/cmu_131_01.bvh"}) {
       const auto r = run_hribench(std::string("motion ") + source + " " + c.flags + out);
       EXPECT_EQ(r.exit_code, 2) << c.flags << " " << source << ": " << r.output;
       EXPECT_EQ(count_lines(r.output), 1) << c.flags << " " << source << ": " << r.output;

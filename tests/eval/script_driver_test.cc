@@ -356,7 +356,7 @@ acts:
   stroll:
     actor: human
     onset: 0.5
-    motion: {clip: ../shared/data/motion/cmu_131_01.bvh, duration: 4.0}
+    motion: {clip: tests/data/motion/cmu_131_01.bvh, duration: 4.0}
 success:
   - on(cube, table)
 )";

@@ -15,7 +15,7 @@ namespace {
 
 using core::Vec3;
 
-const char* kCmu = "../shared/data/motion/cmu_131_01.bvh";
+const char* kCmu = "tests/data/motion/cmu_131_01.bvh";
 
 size_t u(Joint j) { return static_cast<size_t>(index(j)); }
 
