@@ -30,11 +30,11 @@ struct CueContract {
   CueKind kind = CueKind::kGo;
   double window = 1.0;                 // s, W_c
   std::optional<core::Vec3> goal_W;    // kGo only: the response goal (none: any motion)
-  // kGo only: the robot act that answers the cue ("" = none) and the event from which the
+  // kGo only: the robot act that answers the cue ("" = none), and the event from which the
   // script lets the robot move toward the goal ("" = the cue's own event; "episode.start" =
-  // any time). Motion toward the goal under way when the cue comes, begun after the act before
-  // `answered_by` ended but before this event, did not wait for the cue: premature, latency
-  // W_c (docs/metrics.md, Rsp).
+  // any time). An answering act that starts before this event, or (without one) motion toward
+  // the goal under way at the cue that began before it, did not wait for the cue: premature,
+  // latency W_c (docs/metrics.md, Rsp).
   std::string answered_by = {};
   std::string motion_allowed_from = {};
 };
