@@ -32,9 +32,10 @@ struct CueContract {
   std::optional<core::Vec3> goal_W;    // kGo only: the response goal (none: any motion)
   // kGo only: the robot act that answers the cue ("" = none), and the event from which the
   // script lets the robot move toward the goal ("" = the cue's own event; "episode.start" =
-  // any time). An answering act that starts before this event, or (without one) motion toward
-  // the goal under way at the cue that began before it, did not wait for the cue: premature,
-  // latency W_c (docs/metrics.md, Rsp).
+  // any time). Motion toward the goal under way at the cue, begun after the robot act before
+  // `answered_by` ended (without one: at any time) but before this event, did not wait for the
+  // cue: premature, latency W_c. If that earlier act never ends, the cue is never answered
+  // (docs/metrics.md, Rsp).
   std::string answered_by = {};
   std::string motion_allowed_from = {};
 };

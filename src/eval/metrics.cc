@@ -150,30 +150,24 @@ void score_success(const Episode& e, EpisodeMetrics& m) {
   m.success_since = final_run_start(e.log, *e.log.predicate_index(e.contract.success_predicate));
 }
 
-// A go cue's answer: premature or when it began (docs/metrics.md, Rsp). With an answering act
-// the answer is that act's motion: premature if the act started (its detected onset) before
-// the script allowed; else the first motion toward the goal at or after both the cue and the
-// end of the robot act before it (until then the robot does earlier work; if that never ends,
-// it never answers). Without one, motion under way at the cue that began before the script
-// allowed is premature; else the first motion toward the goal at or after the cue.
+// A go cue's answer (docs/metrics.md, Rsp): motion toward the goal under way at t_c, begun
+// before the script allowed but after the robot act before the answering one ended (earlier
+// motion is that act's work), is premature; else the answer is the first motion toward the
+// goal at or after t_c, provided the act before the answering one ended at some time (a robot
+// that never finishes it never gets to the answer: random motion that happens to point at the
+// goal is none).
 void answer_go_cue(const Episode& e, const CueContract& cue, const TimeSet& response, CueResult& r) {
   const double eps = e.c.time_epsilon;
   const double t_c = r.cue_time;
   const double allowed = std::min(
       t_c, cue.motion_allowed_from.empty() ? t_c : e.event(cue.motion_allowed_from).value_or(t_c));
-  std::optional<double> from = t_c;
-  if (const std::optional<size_t> act = robot_act_index(e.contract, cue.answered_by)) {
-    r.premature = e.onsets[*act] && *e.onsets[*act] < allowed - eps;
-    const std::optional<double> previous_end =
-        *act == 0 ? std::optional<double>(e.t0)
-                  : e.log.event_time(e.contract.robot_acts[*act - 1].name + ".end");
-    from = previous_end ? std::optional<double>(std::max(t_c, *previous_end)) : std::nullopt;
-  } else {
-    const std::optional<TimeInterval> under_way = interval_across(response, t_c, eps);
-    r.premature = under_way && under_way->from < allowed - eps;
-  }
-  r.response_time.reset();
-  if (!r.premature && from) r.response_time = first_time_at_or_after(response, *from, eps);
+  std::optional<double> own_from = e.t0;
+  const std::optional<size_t> act = robot_act_index(e.contract, cue.answered_by);
+  if (act && *act > 0) own_from = e.log.event_time(e.contract.robot_acts[*act - 1].name + ".end");
+  const std::optional<TimeInterval> under_way = interval_across(response, t_c, eps);
+  r.premature = under_way && own_from && under_way->from >= *own_from - eps &&
+                under_way->from < allowed - eps;
+  if (r.premature || !own_from) r.response_time.reset();
 }
 
 void score_cues(const Episode& e, EpisodeMetrics& m) {

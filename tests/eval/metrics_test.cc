@@ -200,12 +200,11 @@ TEST(Rsp, MotionTheScriptAllowedBeforeTheCueAnswersIt) {
   EXPECT_NEAR(*compute_metrics(contract, early.log()).response_latency, 0.0, kTol);
 }
 
-// With an answering act, the answer is that act's motion. Motion before the act preceding it
-// ended is that act's work (I2: the pick, when the gesture comes during it), not a premature
-// answer: the answer is the first motion toward the goal after the pick. The answering act
-// starting before the cue is premature; a robot that never finishes the earlier act never
+// Motion that began before the act preceding the answering one ended is that act's work (I2:
+// the pick, when the person asks during it), not a premature answer; motion begun after it
+// ended and before the cue is premature; a robot that never finishes the earlier act never
 // answers (random actions that happen to point at the goal do not).
-TEST(Rsp, TheAnsweringActsMotionAnswers) {
+TEST(Rsp, AnEarlierActsMotionIsNotPremature) {
   ScenarioContract contract;
   contract.robot_acts.push_back({"fetch", std::nullopt});
   contract.robot_acts.push_back({"deliver", core::Vec3(1.0, 0, 1.0)});
@@ -216,7 +215,7 @@ TEST(Rsp, TheAnsweringActsMotionAnswers) {
   const EpisodeMetrics m = compute_metrics(contract, fetching.log());
   EXPECT_FALSE(m.cues[0].premature);
   EXPECT_TRUE(m.cues[0].responded);
-  EXPECT_NEAR(*m.response_latency, 0.5, kTol);
+  EXPECT_NEAR(*m.response_latency, 0.0, kTol);
   EpisodeBuilder early(5.0);
   early.event(0.4, "fetch.end", EventKind::kActEnd, Actor::kRobot).move_x(0.5, 4.0, 0.1).event(1.0, "ask.gesture");
   EXPECT_TRUE(compute_metrics(contract, early.log()).cues[0].premature);
