@@ -150,12 +150,12 @@ void score_success(const Episode& e, EpisodeMetrics& m) {
   m.success_since = final_run_start(e.log, *e.log.predicate_index(e.contract.success_predicate));
 }
 
-// A go cue's answer (docs/metrics.md, Rsp): motion toward the goal under way at t_c, begun
-// before the script allowed but after the robot act before the answering one ended (earlier
-// motion is that act's work), is premature; else the answer is the first motion toward the
-// goal at or after t_c, provided the act before the answering one ended at some time (a robot
-// that never finishes it never gets to the answer: random motion that happens to point at the
-// goal is none).
+// A go cue's answer (docs/metrics.md, Rsp): premature when the answering act started (its
+// onset, the first motion toward the goal after the act before it ended) before the script
+// allowed, or, without an answering act, when motion toward the goal under way at t_c began
+// before it; else the first motion toward the goal at or after t_c, provided the act before
+// the answering one ended at some time (a robot that never finishes it never gets to the
+// answer: random motion that happens to point at the goal is none).
 void answer_go_cue(const Episode& e, const CueContract& cue, const TimeSet& response, CueResult& r) {
   const double eps = e.c.time_epsilon;
   const double t_c = r.cue_time;
@@ -164,9 +164,13 @@ void answer_go_cue(const Episode& e, const CueContract& cue, const TimeSet& resp
   std::optional<double> own_from = e.t0;
   const std::optional<size_t> act = robot_act_index(e.contract, cue.answered_by);
   if (act && *act > 0) own_from = e.log.event_time(e.contract.robot_acts[*act - 1].name + ".end");
-  const std::optional<TimeInterval> under_way = interval_across(response, t_c, eps);
-  r.premature = under_way && own_from && under_way->from >= *own_from - eps &&
-                under_way->from < allowed - eps;
+  if (act) {
+    // The answering act's onset (OC's): its first motion toward the goal after the act before.
+    r.premature = e.onsets[*act] && *e.onsets[*act] < allowed - eps;
+  } else {
+    const std::optional<TimeInterval> under_way = interval_across(response, t_c, eps);
+    r.premature = under_way && under_way->from < allowed - eps;
+  }
   if (r.premature || !own_from) r.response_time.reset();
 }
 
