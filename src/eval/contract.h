@@ -30,6 +30,14 @@ struct CueContract {
   CueKind kind = CueKind::kGo;
   double window = 1.0;                 // s, W_c
   std::optional<core::Vec3> goal_W;    // kGo only: the response goal (none: any motion)
+  // kGo only: the robot act that answers the cue ("" = none), and the event from which the
+  // script lets the robot move toward the goal ("" = the cue's own event; "episode.start" =
+  // any time). An answering act that started before this event (without one: motion toward
+  // the goal under way at the cue that began before it) did not wait for the cue: premature,
+  // latency W_c. If the act before the answering one never ends, the cue is never answered
+  // (docs/metrics.md, Rsp).
+  std::string answered_by = {};
+  std::string motion_allowed_from = {};
 };
 
 // A robot act: an expectation observed from the trace. Its start is the response onset: the

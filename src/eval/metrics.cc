@@ -150,6 +150,30 @@ void score_success(const Episode& e, EpisodeMetrics& m) {
   m.success_since = final_run_start(e.log, *e.log.predicate_index(e.contract.success_predicate));
 }
 
+// A go cue's answer (docs/metrics.md, Rsp): premature when the answering act started (its
+// onset, the first motion toward the goal after the act before it ended) before the script
+// allowed, or, without an answering act, when motion toward the goal under way at t_c began
+// before it; else the first motion toward the goal at or after t_c, provided the act before
+// the answering one ended at some time (a robot that never finishes it never gets to the
+// answer: random motion that happens to point at the goal is none).
+void answer_go_cue(const Episode& e, const CueContract& cue, const TimeSet& response, CueResult& r) {
+  const double eps = e.c.time_epsilon;
+  const double t_c = r.cue_time;
+  const double allowed = std::min(
+      t_c, cue.motion_allowed_from.empty() ? t_c : e.event(cue.motion_allowed_from).value_or(t_c));
+  std::optional<double> own_from = e.t0;
+  const std::optional<size_t> act = robot_act_index(e.contract, cue.answered_by);
+  if (act && *act > 0) own_from = e.log.event_time(e.contract.robot_acts[*act - 1].name + ".end");
+  if (act) {
+    // The answering act's onset (OC's): its first motion toward the goal after the act before.
+    r.premature = e.onsets[*act] && *e.onsets[*act] < allowed - eps;
+  } else {
+    const std::optional<TimeInterval> under_way = interval_across(response, t_c, eps);
+    r.premature = under_way && under_way->from < allowed - eps;
+  }
+  if (r.premature || !own_from) r.response_time.reset();
+}
+
 void score_cues(const Episode& e, EpisodeMetrics& m) {
   const TimeSet retreat = retreat_time(e.log, e.c);
   const TimeSet still_or_retreat = unite(e.still, retreat);
@@ -174,6 +198,7 @@ void score_cues(const Episode& e, EpisodeMetrics& m) {
     r.name = cue.name;
     r.cue_time = *t_c;
     r.response_time = first_time_at_or_after(response, *t_c, e.c.time_epsilon);
+    if (cue.kind == CueKind::kGo) answer_go_cue(e, cue, response, r);
     r.responded = r.response_time && *r.response_time - *t_c <= cue.window + e.c.time_epsilon;
     r.latency = r.responded ? *r.response_time - *t_c : cue.window;
     sum += r.latency;
@@ -408,10 +433,13 @@ void label_failures(const Episode& e, EpisodeMetrics& m) {
   add(m.critical_contact, FailureLabel::kCriticalContact);
   add(m.human_contact, FailureLabel::kContact);
   add(m.environment_collision, FailureLabel::kCollision);
-  add(m.order_compliance && *m.order_compliance < 1.0, FailureLabel::kPremature);
+  add((m.order_compliance && *m.order_compliance < 1.0) ||
+          std::any_of(m.cues.begin(), m.cues.end(), [](const CueResult& r) { return r.premature; }),
+      FailureLabel::kPremature);
   add(ever(series(e.log, e.contract.wrong_target_predicate)), FailureLabel::kWrongTarget);
   add(m.cir && *m.cir == 0.0, FailureLabel::kIgnoredContradiction);
-  add(std::any_of(m.cues.begin(), m.cues.end(), [](const CueResult& r) { return !r.responded; }),
+  add(std::any_of(m.cues.begin(), m.cues.end(),
+                  [](const CueResult& r) { return !r.responded && !r.premature; }),
       FailureLabel::kNoResponse);
   add(m.tsync && *m.tsync < e.c.desync_below, FailureLabel::kDesync);
   add(m.hcs < e.c.unsafe_proximity_below || violation_exceeded(e.contract, m),
@@ -472,8 +500,6 @@ EpisodeMetrics compute_metrics(const ScenarioContract& contract, const EpisodeLo
   score_orders(e, m);
   score_contacts(e, m);
   score_separation(e, m);
-  score_idle(e, m);
-  score_fluency(e, m);
   // CIR: the latest intent holds at the end and the contradicted outcome never held.
   if (contract.contradiction &&
       (contract.contradiction_event.empty() || e.event(contract.contradiction_event))) {
@@ -490,6 +516,12 @@ EpisodeMetrics compute_metrics(const ScenarioContract& contract, const EpisodeLo
               !(contract.success_requires_no_contact && m.human_contact) &&
               !violation_exceeded(contract, m);
   m.completion_time = m.success ? *m.success_since : log.horizon;
+  // IR and fluency describe how the task was done: a failed episode has none to describe
+  // (docs/metrics.md: a robot that never rests would otherwise idle least).
+  if (m.success) {
+    score_idle(e, m);
+    score_fluency(e, m);
+  }
   // DSR: success after the disruption, without critical contact.
   if (!contract.disruption_event.empty() && e.event(contract.disruption_event)) {
     m.dsr = m.success && !m.critical_contact ? 1.0 : 0.0;

@@ -18,9 +18,12 @@ namespace hribench::eval {
 struct CueResult {
   std::string name;
   double cue_time = 0;                  // s, t_c
-  std::optional<double> response_time;  // s, t_r (any time after t_c; nullopt: never)
+  std::optional<double> response_time;  // s, t_r (any time after t_c; nullopt: never, or premature)
   bool responded = false;               // t_r - t_c <= window
   double latency = 0;                   // s: t_r - t_c if responded, else the window
+  // A go cue the robot did not wait for: at t_c it was already moving toward the goal, in a
+  // motion that began before the script allowed (CueContract::motion_allowed_from).
+  bool premature = false;
 };
 
 struct SyncResult {

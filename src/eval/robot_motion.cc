@@ -85,4 +85,11 @@ std::optional<double> first_time_at_or_after(const TimeSet& set, double t, doubl
   return std::nullopt;
 }
 
+std::optional<TimeInterval> interval_across(const TimeSet& set, double t, double epsilon) {
+  for (const TimeInterval& i : set) {
+    if (i.from <= t + epsilon && i.to > t + epsilon) return i;
+  }
+  return std::nullopt;
+}
+
 }  // namespace hribench::eval

@@ -31,5 +31,8 @@ TimeSet retreat_time(const EpisodeLog& log, const MetricConstants& c);
 // else the start of the next interval; nullopt if none. (The onset of a sustained state at or
 // after t.)
 std::optional<double> first_time_at_or_after(const TimeSet& set, double t, double epsilon);
+// The interval of `set` under way at t: it began at or before t and goes on after t; nullopt
+// if none. (The sustained state a cue finds the robot in, and when it began.)
+std::optional<TimeInterval> interval_across(const TimeSet& set, double t, double epsilon);
 
 }  // namespace hribench::eval

@@ -1,5 +1,6 @@
 #include "eval/script_contract.h"
 
+#include <algorithm>
 #include <optional>
 #include <set>
 #include <string>
@@ -116,11 +117,45 @@ std::vector<std::string> human_parts(const std::string& part, const std::string&
   return names;
 }
 
+// The robot act (index into graph.acts) that answers a go cue: the first robot act whose
+// `within` gave the cue, that starts `after` the cue's event or is synchronised with it.
+std::optional<size_t> answering_act(const script::ActGraph& graph, const CueContract& cue) {
+  const auto name = [&](int event) { return graph.event_names.at(static_cast<size_t>(event)); };
+  for (size_t i = 0; i < graph.acts.size(); ++i) {
+    const script::CompiledAct& act = graph.acts[i];
+    if (act.human) continue;
+    const script::RobotConstraints& rc = act.constraints;
+    if (cue.name == act.name || (rc.after >= 0 && name(rc.after) == cue.event) ||
+        (rc.sync_with >= 0 && name(rc.sync_with) == cue.event)) {
+      return i;
+    }
+  }
+  return std::nullopt;
+}
+
+// Where the script lets the robot's answer to a go cue begin (CueContract::motion_allowed_from):
+// the cue itself when a `still` ends on it or the answering act starts `after` it; the
+// answering act's earlier `after` event; otherwise the script sets no bound.
+std::string motion_allowed_from(const script::ActGraph& graph, const CueContract& cue) {
+  const auto name = [&](int event) { return graph.event_names.at(static_cast<size_t>(event)); };
+  for (const script::CompiledAct& act : graph.acts) {
+    if (!act.human && act.constraints.still_to >= 0 && name(act.constraints.still_to) == cue.event) {
+      return "";
+    }
+  }
+  const std::optional<size_t> answer = answering_act(graph, cue);
+  if (!answer) return "episode.start";
+  const int after = graph.acts[*answer].constraints.after;
+  if (after < 0) return "episode.start";
+  return name(after) == cue.event ? "" : name(after);
+}
+
 }  // namespace
 
 ScenarioContract contract_from_act_graph(const script::ActGraph& graph) {
   ScenarioContract contract;
   const auto name = [&](int event) { return graph.event_names.at(static_cast<size_t>(event)); };
+  std::vector<CueContract> within_cues;
   for (const script::CompiledAct& act : graph.acts) {
     if (act.human) {
       if (act.cue) {
@@ -142,9 +177,10 @@ ScenarioContract contract_from_act_graph(const script::ActGraph& graph) {
     contract.robot_acts.push_back({act.name, std::nullopt});
     const script::RobotConstraints& c = act.constraints;
     if (c.after >= 0) contract.orders.push_back({OrderKind::kAfter, act.name, name(c.after), "", "", 0});
-    // `within`: the act must start within that many seconds of its `after` event (a go cue).
+    // `within`: the act must start within that many seconds of its `after` event: a go cue,
+    // unless a cue of the person already gives that event (below).
     if (c.within >= 0 && c.after >= 0) {
-      contract.cues.push_back({act.name, name(c.after), CueKind::kGo, c.within, std::nullopt});
+      within_cues.push_back({act.name, name(c.after), CueKind::kGo, c.within, std::nullopt});
     }
     if (c.before >= 0) {
       contract.orders.push_back({OrderKind::kBefore, act.name, name(c.before), "", "", 0});
@@ -158,6 +194,24 @@ ScenarioContract contract_from_act_graph(const script::ActGraph& graph) {
       contract.syncs.push_back({act.name, name(c.sync_with), act.name + ".end", c.sync_offset,
                                 c.sync_tolerance});
     }
+  }
+  // Each cue is scored once: a `within` on the event of a cue of the person is that cue (the
+  // tighter of the two windows), not a second one.
+  for (const CueContract& within : within_cues) {
+    const auto same = std::find_if(contract.cues.begin(), contract.cues.end(),
+                                   [&](const CueContract& cue) { return cue.event == within.event; });
+    if (same == contract.cues.end()) {
+      contract.cues.push_back(within);
+    } else {
+      same->window = std::min(same->window, within.window);
+    }
+  }
+  for (CueContract& cue : contract.cues) {
+    if (cue.kind != CueKind::kGo) continue;
+    if (const std::optional<size_t> answer = answering_act(graph, cue)) {
+      cue.answered_by = graph.acts[*answer].name;
+    }
+    cue.motion_allowed_from = motion_allowed_from(graph, cue);
   }
   return contract;
 }
@@ -216,17 +270,8 @@ ScenarioContract contract_from_episode(const script::EpisodeSpec& spec,
   }
   // Go cues: the goal of the act that answers them.
   for (CueContract& cue : contract.cues) {
-    if (cue.kind != CueKind::kGo) continue;
-    for (size_t i = 0, k = 0; i < graph.acts.size(); ++i) {
-      if (graph.acts[i].human) continue;
-      const RobotActContract& robot = contract.robot_acts.at(k++);
-      const script::RobotConstraints& rc = graph.acts[i].constraints;
-      const bool answers = cue.name == robot.name || (rc.after >= 0 && name(rc.after) == cue.event) ||
-                           (rc.sync_with >= 0 && name(rc.sync_with) == cue.event);
-      if (answers) {
-        cue.goal_W = robot.goal_W;
-        break;
-      }
+    for (const RobotActContract& robot : contract.robot_acts) {
+      if (!cue.answered_by.empty() && robot.name == cue.answered_by) cue.goal_W = robot.goal_W;
     }
   }
   // Human waits: phases the act's `until` holds open.

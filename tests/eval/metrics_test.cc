@@ -147,6 +147,87 @@ TEST(Rsp, GoCueNeedsMotionTowardTheGoal) {
   EXPECT_NEAR(*compute_metrics(contract, away.log()).response_latency, 1.0, kTol);
 }
 
+// A response is motion that begins after the cue. A robot already moving toward the goal when
+// the go cue comes did not wait for it: premature, latency = the window, labelled premature
+// (not no_response).
+TEST(Rsp, MotionUnderWayBeforeTheGoCueIsPremature) {
+  ScenarioContract contract;
+  contract.cues.push_back({"go", "go.stroke", CueKind::kGo, 2.0, core::Vec3(1.0, 0, 1.0)});
+  EpisodeBuilder early(5.0);
+  early.move_x(0.5, 4.0, 0.1).event(1.0, "go.stroke");
+  const EpisodeMetrics m = compute_metrics(contract, early.log());
+  ASSERT_EQ(m.cues.size(), 1u);
+  EXPECT_TRUE(m.cues[0].premature);
+  EXPECT_FALSE(m.cues[0].responded);
+  EXPECT_FALSE(m.cues[0].response_time.has_value());
+  EXPECT_DOUBLE_EQ(*m.response_latency, 2.0);
+  EXPECT_EQ(m.labels, (std::vector<FailureLabel>{FailureLabel::kPremature, FailureLabel::kTimeout}));
+  // Starting after the cue: the real latency.
+  EpisodeBuilder late(5.0);
+  late.move_x(1.25, 4.0, 0.1).event(1.0, "go.stroke");
+  const EpisodeMetrics n = compute_metrics(contract, late.log());
+  EXPECT_FALSE(n.cues[0].premature);
+  EXPECT_NEAR(*n.response_latency, 0.25, kTol);
+  EXPECT_EQ(std::count(n.labels.begin(), n.labels.end(), FailureLabel::kPremature), 0);
+  // Starting exactly at the cue is a response at latency 0.
+  EpisodeBuilder on_cue(5.0);
+  on_cue.move_x(1.0, 4.0, 0.1).event(1.0, "go.stroke");
+  EXPECT_NEAR(*compute_metrics(contract, on_cue.log()).response_latency, 0.0, kTol);
+  // An early motion that came to rest before the cue is not under way: the motion that begins
+  // after the cue answers it (a start before the script allows is OC's to judge).
+  EpisodeBuilder paused(5.0);
+  paused.move_x(0.0, 0.5, 0.1).move_x(1.5, 4.0, 0.1).event(1.0, "go.stroke");
+  EXPECT_NEAR(*compute_metrics(contract, paused.log()).response_latency, 0.5, kTol);
+}
+
+// Motion the script let begin before the cue (the answering act starts after an earlier event)
+// and still under way at the cue answers it at once; begun before that event, it is premature.
+TEST(Rsp, MotionTheScriptAllowedBeforeTheCueAnswersIt) {
+  ScenarioContract contract;
+  contract.cues.push_back({"offer", "offer.hold_stable", CueKind::kGo, 3.0, core::Vec3(1.0, 0, 1.0)});
+  contract.cues[0].motion_allowed_from = "offer.hold";
+  EpisodeBuilder allowed(5.0);
+  allowed.move_x(1.0, 4.0, 0.1).event(0.8, "offer.hold").event(2.0, "offer.hold_stable");
+  const EpisodeMetrics m = compute_metrics(contract, allowed.log());
+  EXPECT_FALSE(m.cues[0].premature);
+  EXPECT_TRUE(m.cues[0].responded);
+  EXPECT_NEAR(*m.response_latency, 0.0, kTol);
+  EpisodeBuilder early(5.0);
+  early.move_x(0.5, 4.0, 0.1).event(0.8, "offer.hold").event(2.0, "offer.hold_stable");
+  EXPECT_TRUE(compute_metrics(contract, early.log()).cues[0].premature);
+  // "episode.start": the script sets no bound, any motion under way answers.
+  contract.cues[0].motion_allowed_from = "episode.start";
+  EXPECT_NEAR(*compute_metrics(contract, early.log()).response_latency, 0.0, kTol);
+}
+
+// Motion that began before the act preceding the answering one ended is that act's work (I2:
+// the pick, when the person asks during it), not a premature answer; motion begun after it
+// ended and before the cue is premature; a robot that never finishes the earlier act never
+// answers (random actions that happen to point at the goal do not).
+TEST(Rsp, AnEarlierActsMotionIsNotPremature) {
+  ScenarioContract contract;
+  contract.robot_acts.push_back({"fetch", std::nullopt});
+  contract.robot_acts.push_back({"deliver", core::Vec3(1.0, 0, 1.0)});
+  contract.cues.push_back({"ask", "ask.gesture", CueKind::kGo, 2.0, core::Vec3(1.0, 0, 1.0)});
+  contract.cues[0].answered_by = "deliver";
+  EpisodeBuilder fetching(5.0);
+  fetching.move_x(0.5, 4.0, 0.1).event(1.0, "ask.gesture").event(1.5, "fetch.end", EventKind::kActEnd, Actor::kRobot);
+  const EpisodeMetrics m = compute_metrics(contract, fetching.log());
+  EXPECT_FALSE(m.cues[0].premature);
+  EXPECT_TRUE(m.cues[0].responded);
+  EXPECT_NEAR(*m.response_latency, 0.0, kTol);
+  EpisodeBuilder early(5.0);
+  early.event(0.4, "fetch.end", EventKind::kActEnd, Actor::kRobot).move_x(0.5, 4.0, 0.1).event(1.0, "ask.gesture");
+  EXPECT_TRUE(compute_metrics(contract, early.log()).cues[0].premature);
+  EpisodeBuilder never_fetched(5.0);
+  never_fetched.move_x(0.5, 4.0, 0.1).event(1.0, "ask.gesture");
+  const EpisodeMetrics n = compute_metrics(contract, never_fetched.log());
+  EXPECT_FALSE(n.cues[0].premature);
+  EXPECT_FALSE(n.cues[0].responded);
+  EXPECT_DOUBLE_EQ(*n.response_latency, 2.0);
+  EXPECT_NE(std::count(n.labels.begin(), n.labels.end(), FailureLabel::kNoResponse), 0);
+}
+
 TEST(Rsp, IntrusionAnsweredByMovingAway) {
   ScenarioContract contract;
   contract.cues.push_back({"reach", "reach.start", CueKind::kIntrusion, 1.0, std::nullopt});
@@ -413,14 +494,38 @@ TEST(IdleRatio, AllowedTimeMinusWaits) {
   // Allowed: [1, 10] minus [4, 6] = 7 s; the robot moves in [1, 4] and [6, 8]: still 2 s.
   EpisodeBuilder b(10.0);
   b.event(1.0, "go.stroke").event(4.0, "stop.stroke").event(6.0, "go2.stroke");
-  b.move_x(1.0, 4.0, 0.05).move_x(6.0, 8.0, 0.05);
+  b.move_x(1.0, 4.0, 0.05).move_x(6.0, 8.0, 0.05).predicate("success", 9.0, 10.0);
   const EpisodeMetrics m = compute_metrics(contract, b.log());
   EXPECT_NEAR(*m.idle_ratio, 2.0 / 7.0, 1e-9);
   // Never allowed (no go): not applicable.
-  EXPECT_FALSE(compute_metrics(contract, EpisodeBuilder(10.0).log()).idle_ratio.has_value());
+  EpisodeBuilder never(10.0);
+  never.predicate("success", 9.0, 10.0);
+  EXPECT_FALSE(compute_metrics(contract, never.log()).idle_ratio.has_value());
   // An SSM-required stop (human at 0.2 m) is not counted as idle time.
   b.separation(8.05, 10.0, 0.2);
   EXPECT_NEAR(*compute_metrics(contract, b.log()).idle_ratio, 0.0, 1e-9);
+}
+
+// IR and the fluency metrics describe how a task was done: a failed episode has none. A robot
+// that never rests (random actions) would otherwise have the best IR and R-IDLE of all.
+TEST(IdleRatio, NotApplicableToAFailedEpisode) {
+  ScenarioContract contract;
+  contract.allowed_from = "go.stroke";
+  contract.human_waits.push_back({"offer.hold_stable", "release.start"});
+  EpisodeBuilder restless(10.0);
+  restless.event(1.0, "go.stroke").event(2.0, "offer.hold_stable").move_x(0.0, 10.0, 0.05);
+  const EpisodeMetrics m = compute_metrics(contract, restless.log());
+  EXPECT_FALSE(m.success);
+  EXPECT_FALSE(m.idle_ratio.has_value());
+  EXPECT_FALSE(m.r_idle.has_value());
+  EXPECT_FALSE(m.h_idle.has_value());
+  EXPECT_FALSE(m.c_act.has_value());
+  EXPECT_FALSE(m.f_del.has_value());
+  restless.predicate("success", 9.0, 10.0);
+  const EpisodeMetrics n = compute_metrics(contract, restless.log());
+  EXPECT_NEAR(*n.idle_ratio, 0.0, 1e-9);
+  EXPECT_NEAR(*n.r_idle, 0.0, 1e-9);
+  EXPECT_NEAR(*n.h_idle, 0.8, 1e-9);
 }
 
 TEST(Cir, LatestIntentAndNeverTheContradictedOutcome) {
@@ -467,6 +572,7 @@ TEST(Fluency, IdleConcurrencyAndDelay) {
   b.event(1.0, "offer.hold_stable").event(3.0, "release.start", EventKind::kActStart);
   b.event(4.0, "release.end", EventKind::kActEnd);
   b.move_x(3.0, 5.0, 0.05).event(5.0, "take.end", EventKind::kActEnd, Actor::kRobot);
+  b.predicate("success", 9.0, 10.0);
   const EpisodeMetrics m = compute_metrics(contract, b.log());
   EXPECT_NEAR(*m.r_idle, 8.0 / 10.0, 1e-9);
   EXPECT_NEAR(*m.h_idle, 2.0 / 10.0, 1e-9);

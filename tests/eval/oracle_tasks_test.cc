@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "eval/metrics.h"
+#include "eval/task_run.h"
 #include "eval/runner.h"
 #include "eval/task_episode.h"
 #include "policy/registry.h"
@@ -22,16 +23,7 @@ namespace hribench::eval {
 namespace {
 
 using Outcome = ScoredEpisode;
-
-// Samples `task_file` at `seed`, runs `policy` on it and scores it (run_task_episode).
-Outcome run_task(const std::string& task_file, uint64_t seed, const std::string& policy_ref) {
-  const script::EpisodeSpec spec = script::sample(script::load_scenario(task_file), seed);
-  std::unique_ptr<policy::Policy> policy = policy::make_policy(policy_ref);
-  const EpisodeSetup setup{spec.task, spec.role, "", spec.seed, spec.instruction, policy_ref};
-  RunOptions options;
-  options.horizon = 0;  // the script's
-  return run_task_episode(spec, *policy, setup, options);
-}
+using testing::run_task;
 
 std::vector<std::string> label_names(const EpisodeMetrics& m) {
   std::vector<std::string> names;

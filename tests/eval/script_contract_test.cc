@@ -60,15 +60,48 @@ TEST(ScriptContract, CuesActsAndConstraints) {
   EXPECT_DOUBLE_EQ(c.syncs[0].offset, 1.0);
   EXPECT_DOUBLE_EQ(c.syncs[0].tolerance, 1.5);
   EXPECT_EQ(c.disruption_event, "offer.start");
-  // A `within` window becomes a go cue on the act's `after` event.
+  EXPECT_FALSE(c.contradiction);
+}
+
+// Each cue is scored once: a robot act's `within` on the event of the person's cue is that cue
+// (with the tighter window), not a second one (I1's point and put, I4's go and place); on an
+// event no cue gives, it is a go cue of its own, named after the act.
+TEST(ScriptContract, WithinOnACueEventIsThatCue) {
   script::ActGraph g = handover_graph();
   g.acts[1].constraints.within = 2.5;
-  const ScenarioContract w = contract_from_act_graph(g);
-  ASSERT_EQ(w.cues.size(), 2u);
-  EXPECT_EQ(w.cues[1].name, "take");
-  EXPECT_EQ(w.cues[1].event, "offer.hold_stable");
-  EXPECT_DOUBLE_EQ(w.cues[1].window, 2.5);
-  EXPECT_FALSE(c.contradiction);
+  const ScenarioContract same = contract_from_act_graph(g);
+  ASSERT_EQ(same.cues.size(), 1u);
+  EXPECT_EQ(same.cues[0].name, "offer");
+  EXPECT_EQ(same.cues[0].event, "offer.hold_stable");
+  EXPECT_DOUBLE_EQ(same.cues[0].window, 2.5);
+  g.acts[1].constraints.within = 6.0;
+  EXPECT_DOUBLE_EQ(contract_from_act_graph(g).cues.at(0).window, 4.0);
+  g.acts[0].cue.reset();
+  const ScenarioContract own = contract_from_act_graph(g);
+  ASSERT_EQ(own.cues.size(), 1u);
+  EXPECT_EQ(own.cues[0].name, "take");
+  EXPECT_EQ(own.cues[0].event, "offer.hold_stable");
+  EXPECT_EQ(own.cues[0].kind, CueKind::kGo);
+  EXPECT_DOUBLE_EQ(own.cues[0].window, 6.0);
+}
+
+// Where a go cue's answer may begin: at the cue when the answering act starts `after` it or a
+// `still` ends on it; at the answering act's earlier `after` event; anywhere when the script
+// sets no bound.
+TEST(ScriptContract, MotionAllowedFromTheAnsweringActsAfter) {
+  script::ActGraph g = handover_graph();
+  EXPECT_EQ(contract_from_act_graph(g).cues.at(0).answered_by, "take");
+  EXPECT_EQ(contract_from_act_graph(g).cues.at(0).motion_allowed_from, "");
+  g.acts[1].constraints.after = 0;  // take after offer.start, synchronised with the cue
+  EXPECT_EQ(contract_from_act_graph(g).cues.at(0).motion_allowed_from, "offer.start");
+  g.acts[1].constraints.still_to = 2;  // ... but it must be still until the cue
+  EXPECT_EQ(contract_from_act_graph(g).cues.at(0).motion_allowed_from, "");
+  g.acts[1].constraints.still_to = 6;
+  g.acts[1].constraints.after = -1;
+  EXPECT_EQ(contract_from_act_graph(g).cues.at(0).motion_allowed_from, "episode.start");
+  g.acts[1].constraints.sync_with = -1;  // no act answers the cue
+  EXPECT_EQ(contract_from_act_graph(g).cues.at(0).answered_by, "");
+  EXPECT_EQ(contract_from_act_graph(g).cues.at(0).motion_allowed_from, "episode.start");
 }
 
 TEST(ScriptContract, UnknownCueKindIsAnInputError) {
