@@ -1,5 +1,5 @@
 #pragma once
-// The three tiers of trouble in HRIBench (DESIGN.md §5), all in this one header.
+// The three tiers of trouble in HRIBench (docs/design.md), all in this one header.
 //
 // 1. Programmer bug: HRIB_CHECK(cond) << "context"; — always on (also in release builds),
 //    prints file:line, the failed condition and the context, then aborts.

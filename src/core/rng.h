@@ -1,6 +1,6 @@
 #pragma once
 // Seeded, splittable random numbers. Everything random in HRIBench is drawn from an Rng at
-// `sample(seed)` (DESIGN.md §2). The generator and every distribution are written here (not
+// `sample(seed)` (docs/design.md). The generator and every distribution are written here (not
 // std::*_distribution, whose output differs between standard libraries), so a seed gives the
 // same numbers on every platform.
 //

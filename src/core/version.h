@@ -1,5 +1,5 @@
 #pragma once
-// Provenance compiled into the binary (DESIGN.md §4).
+// Provenance compiled into the binary (docs/design.md).
 
 #include <string_view>
 

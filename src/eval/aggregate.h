@@ -1,5 +1,5 @@
 #pragma once
-// Aggregation of episode metrics (METRICS.md "Aggregation"): per task, per role group and
+// Aggregation of episode metrics (docs/metrics.md "Aggregation"): per task, per role group and
 // overall, per policy. Rates (CSR, CFR, CIR, DSR) get Wilson score intervals; continuous
 // metrics get percentile bootstrap intervals over episodes, seeded and deterministic.
 

@@ -1,5 +1,5 @@
 #pragma once
-// Every threshold of the metrics (METRICS.md), in this one place. Results files print the
+// Every threshold of the metrics (docs/metrics.md), in this one place. Results files print the
 // values used (constant_table), and docs/metrics.md documents each.
 
 #include <cstdint>
@@ -20,7 +20,7 @@ struct MetricConstants {
   double moving_gripper_rate = 0.01;  // m/s
   double moving_sustain = 0.1;        // s
   double still_ee_speed = 0.01;       // m/s
-  double still_gripper_rate = 0.005;  // m/s ("gripper static"; METRICS.md gives no number)
+  double still_gripper_rate = 0.005;  // m/s ("gripper static"; docs/metrics.md gives no number)
   double still_sustain = 0.2;         // s
   // Response onset: velocity component toward the response goal (go cues, robot act onsets)
   // or away from the human (intrusion cues) above response_speed for response_sustain.

@@ -1,6 +1,6 @@
 #pragma once
 // ScenarioContract: what an episode's script expects of the robot, in the terms the metrics
-// score (METRICS.md). Eval's own plain struct; the script layer's compiled act graph fills it
+// score (docs/metrics.md). Eval's own plain struct; the script layer's compiled act graph fills it
 // (one contract per EpisodeSpec). Everything time-like refers to EVENTS of the EpisodeLog by
 // name, so a contract does not depend on when things happened in one particular run:
 //   - any Event::name of the log (e.g. "offer.hold_stable", "take.end", "stop.start");

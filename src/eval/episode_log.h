@@ -1,5 +1,5 @@
 #pragma once
-// EpisodeLog: everything an episode leaves behind (DESIGN.md §4) — one StepRecord per control
+// EpisodeLog: everything an episode leaves behind (docs/design.md) — one StepRecord per control
 // step plus timed Events and the episode's status. Enough to recompute every metric
 // (eval/metrics.h) without re-simulating, and to replay the episode.
 //

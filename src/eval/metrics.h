@@ -1,5 +1,5 @@
 #pragma once
-// The metrics of METRICS.md as pure functions of (ScenarioContract, EpisodeLog), with the
+// The metrics of docs/metrics.md as pure functions of (ScenarioContract, EpisodeLog), with the
 // thresholds of eval/constants.h. docs/metrics.md states every definition; the short form is
 // next to each field below. A metric that does not apply to the episode is nullopt.
 
@@ -39,7 +39,7 @@ struct OrderResult {
   bool satisfied = true;
 };
 
-// Failure-mode labels, in METRICS.md's priority order.
+// Failure-mode labels, in docs/metrics.md's priority order.
 enum class FailureLabel {
   kInvalid, kPolicyError, kCriticalContact, kContact, kCollision, kPremature, kWrongTarget,
   kIgnoredContradiction, kNoResponse, kDesync, kUnsafeProximity, kDrop, kNoRecovery,

@@ -25,7 +25,7 @@ namespace hribench::eval {
 
 inline constexpr int kResultsFormatVersion = 1;
 
-// Provenance of a run (DESIGN.md §4).
+// Provenance of a run (docs/design.md).
 struct RunInfo {
   std::string hribench_version;
   std::string git_hash;

@@ -1,5 +1,5 @@
 #pragma once
-// Robot motion state from an EpisodeLog (METRICS.md notation): when the robot is *moving* and
+// Robot motion state from an EpisodeLog (docs/metrics.md notation): when the robot is *moving* and
 // when it is *still*, and response onsets. Pure functions of the log.
 //
 // The log samples the world at control steps t_0 < t_1 < ...; a motion quantity belongs to the

@@ -1,6 +1,6 @@
 #pragma once
 // Analytic two-link arm IK with an elbow swivel angle (Tolani, Goswami & Badler 2000;
-// reference/human.md §4), hand orientation targets, torso lean for far reaches, and human
+// docs/motion.md), hand orientation targets, torso lean for far reaches, and human
 // joint-angle limits. Everything writes SkeletonPose::local rotations in the skeleton's
 // convention (identity = rest, arms hanging, body frame x forward / y left / z up).
 //

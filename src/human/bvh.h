@@ -1,5 +1,5 @@
 #pragma once
-// Biovision Hierarchy (BVH) motion files (reference/human.md §3): a parser that keeps the file's
+// Biovision Hierarchy (BVH) motion files (docs/motion.md): a parser that keeps the file's
 // own joints, axes and units, forward kinematics on it, a formatter, and conversion to and from
 // our Clip (through human/retarget.h).
 //

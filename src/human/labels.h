@@ -1,5 +1,5 @@
 #pragma once
-// Checks on a human clip that the validator runs before any physics (SCRIPTS.md "Labels"):
+// Checks on a human clip that the validator runs before any physics (docs/scenario-scripts.md "Labels"):
 // the pointing ray passes through a target's cue region, a hand stays still inside a zone for a
 // phase, an intruding hand enters the workspace, no self-penetration of the capsule body, joint
 // angles within human limits, bone lengths preserved. Each check returns a CheckResult whose

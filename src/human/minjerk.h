@@ -1,5 +1,5 @@
 #pragma once
-// Minimum-jerk timing (Flash & Hogan 1985; reference/human.md §4) for hand paths: the
+// Minimum-jerk timing (Flash & Hogan 1985; docs/motion.md) for hand paths: the
 // symmetric profile, an asymmetric variant with a longer deceleration tail for precision
 // phases (pointing, placing), quintic segments with arbitrary boundary velocity and
 // acceleration (for re-targeting a movement that is already under way), and a smooth path

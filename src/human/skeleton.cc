@@ -20,7 +20,7 @@ constexpr std::array<std::string_view, kNumJoints> kJointNames = {
 constexpr std::array<int, kNumJoints> kParents = {-1, 0, 0, 0, 1, 2, 3, 4, 5, 6, 7,
                                                   8, 9, 9, 9, 12, 13, 14, 16, 17, 18, 19};
 
-// Reference skeleton (HumanML3D lengths, reference/human.md §2, left/right averaged), with
+// Reference skeleton (HumanML3D lengths, docs/motion.md, left/right averaged), with
 // anatomical rest directions in the body frame (x forward, y left, z up).
 constexpr double kAnkleHeight = 0.06;     // ankle joint above the sole, m
 constexpr double kCrownAboveNeck = 0.22;  // crown above the neck joint, m

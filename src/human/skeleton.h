@@ -1,5 +1,5 @@
 #pragma once
-// The canonical human skeleton: the SMPL / HumanML3D 22-joint tree (reference/human.md §2),
+// The canonical human skeleton: the SMPL / HumanML3D 22-joint tree (docs/motion.md),
 // with bone lengths scaled from a standing height, forward kinematics, and the capsule body
 // that the model layer turns into MuJoCo geoms.
 //
@@ -41,7 +41,7 @@ Joint wrist(Side side);
 Joint elbow(Side side);
 Joint shoulder(Side side);
 
-// Body regions for contact grading against ISO/TS 15066 (reference/safety.md).
+// Body regions for contact grading against ISO/TS 15066 (docs/metrics.md, HCS).
 enum class BodyRegion { kHead, kNeck, kTorso, kPelvis, kUpperArm, kForearm, kHand, kThigh, kShin };
 inline constexpr int kNumBodyRegions = 9;
 std::string_view to_string(BodyRegion region);  // "head", "neck", ..., "upper_arm", ...

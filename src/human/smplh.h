@@ -1,5 +1,5 @@
 #pragma once
-// SMPL-H parameter files (.npz) as HY-Motion-1.0 and AMASS write them (reference/human.md §1, §2):
+// SMPL-H parameter files (.npz) as HY-Motion-1.0 and AMASS write them (docs/motion.md):
 // `poses` (F, 156) axis-angle in SMPL-H joint order (root first; the first 22 joints are the
 // body; 72- and 165-column SMPL / SMPL-X files work too), `trans` (F, 3) metres, optional
 // `mocap_framerate` / `mocap_frame_rate` (default 30 fps, HY-Motion's output rate), `betas`

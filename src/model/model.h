@@ -118,7 +118,7 @@ struct SceneSpec {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Fixed scene geometry (the scene convention of TASKS.md).
+// Fixed scene geometry (the scene convention of docs/tasks.md).
 
 inline constexpr double kTableTopZ = 0.75;      // m
 inline constexpr double kTableXMin = -0.15;     // near edge (robot side), m

@@ -47,7 +47,7 @@ double intrusion_gap(const Pose& X_WT, const Joints& joints, Vec3& away) {
   return surface_gap(robot, body, away);
 }
 
-// The largest speed toward a person at which the robot keeps METRICS.md's protective
+// The largest speed toward a person at which the robot keeps docs/metrics.md's protective
 // separation distance S_p (human speed 2.0 m/s within 0.5 m, else 1.6; reaction 0.1 s,
 // stopping at 3 m/s^2, 0.05 m intrusion and uncertainty) at separation d, m/s.
 double protective_speed(double d) {
@@ -513,7 +513,7 @@ double ExpertPolicy::separation_scale(const World& world, Vec3& retreat) const {
   // Waiting for the event a step must start after, the robot has nothing to do: it backs off
   // from a person coming closer than kSlowDistance, faster (kWaitingRetreatFactor), and only by
   // motion that does not approach the step's object or target (that would be the step's
-  // response onset, METRICS.md): back and up from a demonstrator leaning in (I3). Held by a
+  // response onset, docs/metrics.md): back and up from a demonstrator leaning in (I3). Held by a
   // stop cue or paused by a contradiction it does not move at all (any motion would count as
   // the start of an act whose goal has no position, such as I5's put-back).
   const bool waiting = holding_ && waiting_;

@@ -44,7 +44,7 @@ inline constexpr double kYieldSpeed = 0.6;         // m/s backing off from a dis
 // While yielding to an intruding person the oracle keeps the surface separation it estimates
 // (intrusion_gap in oracle.cc: the robot's hand and wrist, the person's arms, hands, head and
 // chest as capsules; within about 0.04 m of the simulator's d(t)) at least kProtectiveGap:
-// METRICS.md's S_p of a resting robot near a person is 0.25 m. Below it the robot backs off,
+// docs/metrics.md's S_p of a resting robot near a person is 0.25 m. Below it the robot backs off,
 // kIntrusionRetreatFactor times kRetreatSpeed; toward the yield pose it approaches the person
 // no faster than S_p allows at the estimate less kGapMargin.
 inline constexpr double kProtectiveGap = 0.31;     // m

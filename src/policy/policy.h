@@ -1,5 +1,5 @@
 #pragma once
-// The Policy interface (DESIGN.md §4): the runner calls reset(EpisodeInfo) once per episode,
+// The Policy interface (docs/design.md): the runner calls reset(EpisodeInfo) once per episode,
 // then act(Observation) -> ActionChunk whenever it needs actions; it executes
 // `replan_every` actions of a chunk (or the whole chunk, if shorter) before asking again.
 //

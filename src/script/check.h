@@ -1,5 +1,5 @@
 #pragma once
-// The scenario validator: every problem of a script, before any physics (SCRIPTS.md
+// The scenario validator: every problem of a script, before any physics (docs/scenario-scripts.md
 // "Validation"). A problem is where ("file:line:col (key.path)") plus what is wrong.
 
 #include <string>

@@ -22,7 +22,7 @@
 //                            kDropSpeed or below the table top by kDropBelow
 //   at_home(robot)           TCP within kHomeTolerance of its home
 //   still(robot)             TCP slower than kStillSpeed and gripper slower than kStillSpeed,
-//                            for kStillFor seconds (METRICS.md "still")
+//                            for kStillFor seconds (docs/metrics.md "still")
 //   clear(o)                 no palm within kClearRadius of o's centre (horizontally, and
 //                            |dz| < kClearHeight), no other object on o's footprint
 //   open(o, deg)             o's lid open at least deg degrees

@@ -38,7 +38,7 @@ struct CompiledPhase {
   int event = -1;       // event id of the phase's start, -1 for the unnamed onset wait
 };
 
-// A cue of a human act: the event the robot must respond to, and the window (METRICS.md Rsp).
+// A cue of a human act: the event the robot must respond to, and the window (docs/metrics.md Rsp).
 struct CompiledCue {
   int event = -1;
   double window = 0;     // s

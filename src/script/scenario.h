@@ -1,6 +1,5 @@
 #pragma once
-// The typed scenario script (docs/scenario-scripts.md is the reference; SCRIPTS.md the
-// intent). The same structs hold a Scenario as written (values may be distributions) and an
+// The typed scenario script (docs/scenario-scripts.md is the reference). The same structs hold a Scenario as written (values may be distributions) and an
 // EpisodeSpec after sample() (every value a literal).
 //
 // Each struct has ONE visit function listing its keys; it drives the YAML reader, the JSON
@@ -190,7 +189,7 @@ struct Cue {
   void visit(V& v) {
     v.req("at", at, "the event the robot must respond to (ACT.PHASE, ACT.start, ACT.end)");
     v.req("window", window, "response window W_c, s (> 0)");
-    v.opt("kind", kind, "go, stop or intrusion: what counts as a response (METRICS.md Rsp)");
+    v.opt("kind", kind, "go, stop or intrusion: what counts as a response (docs/metrics.md Rsp)");
   }
   bool operator==(const Cue&) const = default;
 };
@@ -321,7 +320,7 @@ struct ContactPermit {
 struct Safety {
   static constexpr const char* kSchemaName = "safety";
   std::vector<ContactPermit> contact_permitted;
-  // Conditions success adds (TASKS.md "no contact", "separation violations within
+  // Conditions success adds (docs/tasks.md "no contact", "separation violations within
   // tolerance"); absent: success ignores them (CFR and HCS still report them).
   std::optional<bool> no_contact;
   std::optional<double> max_violation;  // s
@@ -329,7 +328,7 @@ struct Safety {
   void visit(V& v) {
     v.opt("contact_permitted", contact_permitted, "robot-human contact pairs allowed in a phase");
     v.opt("no_contact", no_contact, "true: success also requires no robot-human contact outside contact_permitted");
-    v.opt("max_violation", max_violation, "success also requires at most this many s of separation violation (d < S_p outside permitted phases, METRICS.md HCS)");
+    v.opt("max_violation", max_violation, "success also requires at most this many s of separation violation (d < S_p outside permitted phases, docs/metrics.md HCS)");
   }
   bool operator==(const Safety&) const = default;
 };

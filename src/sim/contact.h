@@ -1,7 +1,7 @@
 #pragma once
 // The contact query: who touches whom, where, and how hard, from mjData.contact and
 // mj_contactForce; and the grading of a human contact against ISO/TS 15066
-// (reference/safety.md: above the quasi-static limit; above the transient limit, 2x, it is
+// (docs/metrics.md, HCS: above the quasi-static limit; above the transient limit, 2x, it is
 // critical).
 //
 // Forces are the constraint forces of the last mj_forward / mj_step (N); positions are in the

@@ -1,5 +1,5 @@
 #pragma once
-// The mutable state of one running episode (DESIGN.md §4): MuJoCo's mjData plus the robot's
+// The mutable state of one running episode (docs/design.md): MuJoCo's mjData plus the robot's
 // controller targets, the human pose and the human's hold state. One Data per thread; the
 // Model it was made from is shared read-only and must outlive it.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Closest points between convex primitives, for human–robot clearance (METRICS.md d(t)).
+// Closest points between convex primitives, for human–robot clearance (docs/metrics.md d(t)).
 // MuJoCo 2.2.2 has no mj_geomDistance, so these are written here; pure geometry, no MuJoCo.
 //
 // Units: metres. Everything is expressed in the world frame W (any common frame works).

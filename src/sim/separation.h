@@ -1,5 +1,5 @@
 #pragma once
-// Minimum human–robot separation d(t) (METRICS.md: the minimum distance between any robot geom
+// Minimum human–robot separation d(t) (docs/metrics.md: the minimum distance between any robot geom
 // and any human geom) with its closest points, from the geoms' world poses in mjData.
 //
 // Which geoms count: every geom tagged robot (link, hand, finger) or human in
@@ -67,7 +67,7 @@ Separation min_separation(const model::Model& model, const mjData& d);
 Separation min_separation(const model::Model& model, const Data& data);
 
 // Motion of the robot's closest point (the v_r of ISO/TS 15066 speed-and-separation
-// monitoring, METRICS.md HCS), from the velocities of the last mj_forward / mj_step.
+// monitoring, docs/metrics.md HCS), from the velocities of the last mj_forward / mj_step.
 struct RobotPointMotion {
   core::Vec3 velocity_W = core::Vec3::Zero();  // m/s, of point_robot_W fixed to its body
   // Component of velocity_W along the unit direction from the robot to the human (m/s;

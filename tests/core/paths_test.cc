@@ -7,6 +7,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "support/test_files.h"
 
@@ -42,6 +44,44 @@ TEST_F(DataRootTest, TheRepositoryIsFoundWithoutAnOverride) {
 TEST_F(DataRootTest, BadOverrideIsAnInputError) {
   EXPECT_EQ(::hribench::testing::error_of([] { set_data_root("/nonexistent/hribench"); }),
             "--root: expected a folder holding tasks/ and pool/, got '/nonexistent/hribench'");
+}
+
+// The repository stands alone: nothing it builds, tests or documents reads or cites the
+// planning folder beside the checkout (the patterns are split so this file does not match).
+TEST(Repository, NamesNothingOutsideItself) {
+  const fs::path root = HRIBENCH_SOURCE_DIR;
+  const std::vector<std::string> patterns = {std::string("../") + "shared", std::string("DESIGN") + ".md",
+                                             std::string("reference/") + "robots.md",
+                                             std::string("reference/") + "human.md"};
+  std::vector<std::string> found;
+  const auto scan = [&](const fs::path& file) {
+    std::ifstream in(file);
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) {
+      for (const std::string& p : patterns) {
+        if (line.find(p) != std::string::npos) {
+          found.push_back(fs::relative(file, root).string() + ":" + std::to_string(n) + ": " + line);
+        }
+      }
+    }
+  };
+  for (const char* dir : {"src", "tests", "bench", "scripts", "docs", "fuzz", "cmake"}) {
+    if (!fs::is_directory(root / dir)) continue;
+    for (const auto& entry : fs::recursive_directory_iterator(root / dir)) {
+      const std::string ext = entry.path().extension().string();
+      if (ext == ".cc" || ext == ".h" || ext == ".md" || ext == ".sh" || ext == ".txt" || ext == ".cmake" ||
+          ext == ".py") {
+        scan(entry.path());
+      }
+    }
+  }
+  scan(root / "README.md");
+  scan(root / "CMakeLists.txt");
+  EXPECT_TRUE(found.empty()) << [&] {
+    std::string text;
+    for (const std::string& f : found) text += f + "\n";
+    return text;
+  }();
 }
 
 }  // namespace

@@ -15,7 +15,7 @@
 namespace hribench::eval {
 namespace {
 
-// A hand-built graph shaped like the handover_h2r example of SCRIPTS.md.
+// A hand-built graph shaped like the handover_h2r example of docs/scenario-scripts.md.
 script::ActGraph handover_graph() {
   script::ActGraph g;
   g.event_names = {"offer.start", "offer.end", "offer.hold_stable", "take.start", "take.end",
@@ -231,7 +231,7 @@ TEST_F(ScriptContractEpisode, BlockedTargetIsARobotWait) {
   EXPECT_EQ(c.robot_waits[0].to, "block.retract");
   expect_at(act(c, "carry").goal_W, t.centre("plate"), "carry");
   expect_at(act(c, "place").goal_W, t.centre("plate"), "place");
-  // The script's safety conditions ("no contact" in TASKS.md) reach the contract.
+  // The script's safety conditions ("no contact" in docs/tasks.md) reach the contract.
   EXPECT_TRUE(c.success_requires_no_contact);
   EXPECT_EQ(c.success_max_violation, t.spec.safety.max_violation);
 }

@@ -61,7 +61,7 @@ TEST(MinJerkTest, QuinticRestToRestIsMinJerk) {
   for (double t = 0; t <= 0.8; t += 0.1) {
     EXPECT_NEAR((q.position(t) - (a + (b - a) * min_jerk(t / 0.8))).norm(), 0, 1e-12);
   }
-  // A 0.40 m reach in 0.8 s peaks at 0.94 m/s (reference/human.md §4).
+  // A 0.40 m reach in 0.8 s peaks at 0.94 m/s (docs/motion.md).
   const Quintic r = Quintic::RestToRest(Vec3::Zero(), Vec3(0.4, 0, 0), 0.8);
   EXPECT_NEAR(r.velocity(0.4).norm(), 0.9375, 1e-9);
   EXPECT_NEAR(r.velocity(0.8).norm(), 0, 1e-9);

@@ -19,7 +19,7 @@ namespace {
 
 using core::Vec3;
 
-// Scene convention (TASKS.md): the person stands at the far edge of the table (x = 1.5) facing
+// Scene convention (docs/tasks.md): the person stands at the far edge of the table (x = 1.5) facing
 // the robot (-x); the table top is at 0.75 m.
 constexpr double kStandX = 1.5;
 const Vec3 kObject(1.05, 0.12, 0.82);

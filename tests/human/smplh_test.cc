@@ -24,7 +24,7 @@ std::array<Vec3, kNumJoints> body_positions(const Clip& clip, size_t frame) {
 
 TEST(SmplhTest, RestSkeletonIsATPoseWithTheReferenceBoneLengths) {
   const RestTree t = smpl_rest_tree();
-  // reference/human.md §2, SMPL-neutral column (PHC): within 5 mm.
+  // docs/motion.md, SMPL-neutral column (PHC): within 5 mm.
   EXPECT_NEAR(t.offset[u(Joint::kLeftKnee)].norm(), 0.377, 0.005);
   EXPECT_NEAR(t.offset[u(Joint::kLeftAnkle)].norm(), 0.401, 0.005);
   EXPECT_NEAR(t.offset[u(Joint::kLeftElbow)].norm(), 0.261, 0.005);

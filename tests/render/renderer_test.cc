@@ -251,7 +251,7 @@ TEST_F(DefaultSceneTest, AgentviewShowsRobotHumanTableAndObjects) {
 }
 
 TEST_F(DefaultSceneTest, ThreadsRenderWithTheirOwnRenderers) {
-  // One Renderer per thread on a shared Model (DESIGN.md §8): same state, same pixels.
+  // One Renderer per thread on a shared Model (docs/design.md): same state, same pixels.
   const model::Model& model = model_;
   const sim::Data& data = data_;
   Image reference;

@@ -1,6 +1,6 @@
-// The 13 task scripts of tasks/ (TASKS.md): each is clean for the validator, samples
+// The 13 task scripts of tasks/ (docs/tasks.md): each is clean for the validator, samples
 // deterministically, compiles to an act graph for every sampled variant, keeps its geometry
-// within reach of the person and the robot, and has the task-specific structure TASKS.md asks
+// within reach of the person and the robot, and has the task-specific structure docs/tasks.md asks
 // for (pointed target among the scene objects, I5's three variants, disruptions, syncs, ...).
 
 #include <gtest/gtest.h>
@@ -27,7 +27,7 @@ namespace {
 
 constexpr int kSeeds = 24;
 
-// Task file names (TASKS.md ids and names), in the order of TASKS.md.
+// Task file names (docs/tasks.md ids and names), in the order of docs/tasks.md.
 const std::vector<std::string>& task_files() {
   static const std::vector<std::string> files = {
       "I1_point_pick",       "I2_gesture_delivery", "I3_demo_imitate",  "I4_stop_go",

@@ -1,6 +1,5 @@
 #pragma once
-// A GoogleTest fixture that fails a test on any MuJoCo warning (TEAM.md: physics tests must fail
-// on any MuJoCo warning). Two sources are watched:
+// A GoogleTest fixture that fails a test on any MuJoCo warning. Two sources are watched:
 //  - mju_user_warning: every warning MuJoCo prints (first occurrence per mjData, model
 //    compiler warnings, ...) is recorded while the fixture is active;
 //  - mjData.warning[i].number: call ExpectNoWarnings(d) on each mjData the test steps (or
