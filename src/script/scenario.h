@@ -1,5 +1,6 @@
 #pragma once
-// The typed scenario script (docs/scenario-scripts.md is the reference). The same structs hold a Scenario as written (values may be distributions) and an
+// The typed scenario script (docs/scenario-scripts.md is the reference). The same structs hold
+// a Scenario as written (values may be distributions) and an
 // EpisodeSpec after sample() (every value a literal).
 //
 // Each struct has ONE visit function listing its keys; it drives the YAML reader, the JSON

@@ -24,6 +24,7 @@ class EpisodeBuilder {
     log_.spec_hash = "0123abcd";
     log_.seed = 7;
     log_.policy = "noop";
+    log_.robot = "panda";
     log_.horizon = duration;
     log_.control_dt = dt;
     log_.object_names = {"cube", "bin"};

@@ -102,10 +102,12 @@ TEST(Episode, LogHoldsActionsTargetsAndTheSkeleton) {
   EXPECT_TRUE(log.steps[0].action.empty());  // the reset state: nothing executed yet
   for (size_t k = 1; k < log.steps.size(); ++k) {
     const StepRecord& s = log.steps[k];
-    ASSERT_EQ(s.action.size(), static_cast<size_t>(policy::action_dim(log.action_space))) << k;
-    EXPECT_EQ(s.joint_target.size(), 7u);
-    EXPECT_EQ(s.joint_vel.size(), 7u);
-    EXPECT_DOUBLE_EQ(s.gripper_target, s.action.back() * model::kGripperMaxWidth);
+    const model::Robot& robot = episode.model().robot;
+    EXPECT_EQ(log.robot, robot.name);
+    ASSERT_EQ(s.action.size(), static_cast<size_t>(policy::action_dim(log.action_space, robot))) << k;
+    EXPECT_EQ(s.joint_target.size(), robot.dof());
+    EXPECT_EQ(s.joint_vel.size(), robot.dof());
+    EXPECT_DOUBLE_EQ(s.gripper_target, s.action.back() * robot.gripper.max_width());
     EXPECT_EQ(s.lid_angles.size(), log.object_names.size());
     EXPECT_DOUBLE_EQ(s.finger_pos[0] + s.finger_pos[1], s.gripper_width);
   }

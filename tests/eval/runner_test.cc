@@ -291,7 +291,10 @@ class WatchingPolicy : public policy::NoopPolicy {
     s.privileged = privileged;
     return s;
   }
-  void reset(const policy::EpisodeInfo& i) override { info = i; }
+  void reset(const policy::EpisodeInfo& i) override {
+    NoopPolicy::reset(i);
+    info = i;
+  }
   policy::ActionChunk act(const policy::Observation& observation) override {
     seen.push_back(observation);
     return NoopPolicy::act(observation);

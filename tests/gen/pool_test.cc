@@ -115,7 +115,9 @@ TEST(Pool, TaskListsResolveToScripts) {
   EXPECT_EQ(resolve_task_scripts("I1,stop_go"),
             (std::vector<std::string>{"tasks/I1_point_pick.yaml", "tasks/I4_stop_go.yaml"}));
   EXPECT_EQ(error_of([] { resolve_task_scripts("Z9"); }),
-            "--tasks: expected a task name or file of tasks/ (or all), got 'Z9'");
+            "--tasks: expected a task id or name (C1 handover_h2r, C2 handover_r2h, C3 box_retrieval, C4 co_lift, "
+            "I1 point_pick, I2 gesture_delivery, I3 demo_imitate, I4 stop_go, I5 contradiction, X1 intrusion_yield, "
+            "X2 object_moved, X3 someone_else_places, X4 blocked_target), a script file or all, got 'Z9'");
   EXPECT_EQ(error_of([] { resolve_task_scripts(","); }), "--tasks: expected a task list, got ','");
 }
 
