@@ -327,11 +327,7 @@ void Episode::check_action(const policy::Action& action, std::string_view where)
   try {
     policy::validate_chunk(chunk, policy_.action_space, action_limits());
   } catch (const policy::PolicyError& e) {
-    // "action 0: expected 7 values (ee_delta), got 3" -> without the chunk index.
-    std::string message = e.what();
-    const std::string prefix = "action 0";
-    if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size() + (message[prefix.size()] == ':' ? 2 : 1));
-    throw core::InputError::Message(std::string(where), message);
+    throw core::InputError::Message(std::string(where), e.what());
   }
 }
 
