@@ -2,7 +2,8 @@
 // seed) episode, scores it, appends it to DIR/episodes.jsonl as it finishes (so --resume loses
 // nothing), and writes DIR/results.json, summary.md and summary.csv at the end.
 // DIR/options.json records the options that change results; another run's folder is refused
-// unless --resume (same options) or --force.
+// unless --resume (same options; or more --episodes, which extends the run with the next
+// seeds) or --force, and an episode pool's folder is refused outright.
 // With --pool DIR [--split eval|adapt|test] the episodes are those of a generated pool's split
 // (gen/pool.h: re-sampled from the manifest's seeds and checked against its hashes) instead of
 // sampled seeds; the results' options name the pool and its version.
@@ -47,6 +48,7 @@
 #include "model/model.h"
 #include "policy/registry.h"
 #include "script/check.h"
+#include "script/runtime.h"
 #include "script/sample.h"
 #include "sim/data.h"
 
@@ -84,10 +86,18 @@ std::vector<std::string> split_list(const std::string& text) {
 
 struct Job {
   const script::EpisodeSpec* spec = nullptr;
+  std::string task_id;  // docs/tasks.md's id of the task ("" for a script outside tasks/)
   std::string hash;
   std::string policy;
   std::string key;
 };
+
+// The id of each task of the catalogue by its name (point_pick -> I1).
+std::map<std::string, std::string> task_ids() {
+  std::map<std::string, std::string> ids;
+  for (const gen::TaskFile& task : gen::task_catalogue()) ids.emplace(task.name, task.id);
+  return ids;
+}
 
 // The policies of one worker thread: one instance per reference for the whole run.
 using WorkerPolicies = std::map<std::string, std::unique_ptr<policy::Policy>>;
@@ -116,10 +126,15 @@ eval::EpisodeResult run_one(const Job& job, const eval::RunOptions& base, Worker
     std::vector<eval::EpisodeObserver*> observers;
     if (log_file) observers.push_back(&writer.emplace(*log_file));
     const eval::ScoredEpisode scored = eval::run_task_episode(spec, *policy, setup, base, observers);
-    return eval::make_result(scored.log, scored.metrics);
+    eval::EpisodeResult result = eval::make_result(scored.log, scored.metrics);
+    result.task_id = job.task_id;
+    result.variant = spec.variant;
+    return result;
   } catch (const std::exception& e) {
     eval::EpisodeResult result;
     result.task = spec.task;
+    result.task_id = job.task_id;
+    result.variant = spec.variant;
     result.role = spec.role;
     result.policy = job.policy;
     result.spec_hash = job.hash;
@@ -143,12 +158,47 @@ nlohmann::json read_json(const fs::path& path) {
   return json;
 }
 
-// Refuses a folder holding another run unless --resume (same options) or --force; returns
-// the episodes already finished (rewriting the episode file without a torn last line).
+// The options of `recorded` that `asked` sets otherwise: "episodes: 2 in the run, 3 asked".
+std::vector<std::string> option_differences(const nlohmann::json& recorded, const nlohmann::json& asked) {
+  std::vector<std::string> differences;
+  std::set<std::string> keys;
+  for (const auto& [key, value] : recorded.items()) keys.insert(key);
+  for (const auto& [key, value] : asked.items()) keys.insert(key);
+  for (const std::string& key : keys) {
+    const std::string was = recorded.contains(key) ? recorded.at(key).dump() : "(not set)";
+    const std::string now = asked.contains(key) ? asked.at(key).dump() : "(not set)";
+    if (was != now) differences.push_back(key + ": " + was + " in the run, " + now + " asked");
+  }
+  return differences;
+}
+
+// A run with the same options but more --episodes (the same first seed): the asked run extends
+// the recorded one with the next seeds.
+bool extends(const nlohmann::json& recorded, const nlohmann::json& asked) {
+  if (!recorded.contains("episodes") || !asked.contains("episodes")) return false;
+  nlohmann::json recorded_rest = recorded;
+  nlohmann::json asked_rest = asked;
+  recorded_rest.erase("episodes");
+  asked_rest.erase("episodes");
+  return recorded_rest == asked_rest && recorded.at("episodes").is_number_integer() &&
+         asked.at("episodes").get<int>() >= recorded.at("episodes").get<int>();
+}
+
+// Refuses a file, an episode pool, or a folder holding another run unless --resume (same
+// options, or more episodes) or --force; returns the episodes already finished (rewriting the
+// episode file without a torn last line).
 std::vector<eval::EpisodeResult> prepare_out(const EvalOptions& o, const nlohmann::json& options) {
   const fs::path dir = o.out;
   const fs::path options_file = dir / "options.json";
   const fs::path lines_file = dir / "episodes.jsonl";
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+    throw core::InputError("--out", "a folder for the run", "'" + o.out + "', a file");
+  }
+  if (fs::exists(dir / "manifest.json", ec)) {
+    throw core::InputError("--out", "a folder for the run",
+                           "'" + o.out + "', which holds an episode pool (manifest.json); choose another folder");
+  }
   std::vector<eval::EpisodeResult> finished;
   const bool has_run = fs::exists(options_file) || fs::exists(lines_file) ||
                        fs::exists(dir / "results.json");
@@ -162,9 +212,15 @@ std::vector<eval::EpisodeResult> prepare_out(const EvalOptions& o, const nlohman
     throw core::InputError::Message(
         "--out", o.out + " already holds a run; use --resume to continue it or --force to replace it");
   } else if (has_run) {
-    if (!fs::exists(options_file) || read_json(options_file) != options) {
+    if (!fs::exists(options_file)) {
+      throw core::InputError::Message("--resume", o.out + " holds no options.json; use --force to replace the run");
+    }
+    const nlohmann::json recorded = read_json(options_file);
+    if (recorded != options && !extends(recorded, options)) {
+      std::string list;
+      for (const std::string& d : option_differences(recorded, options)) list += (list.empty() ? "" : "; ") + d;
       throw core::InputError::Message(
-          "--resume", o.out + " holds a run with other options; use --force to replace it");
+          "--resume", o.out + " holds a run with other options (" + list + "); use --force to replace it");
     }
     if (fs::exists(lines_file)) finished = eval::load_episode_lines(lines_file);
     fs::remove(lines_file);
@@ -173,6 +229,25 @@ std::vector<eval::EpisodeResult> prepare_out(const EvalOptions& o, const nlohman
   fs::create_directories(dir);
   std::ofstream(options_file) << options.dump(2) << "\n";
   return finished;
+}
+
+// Tasks whose episodes all ended before their first cue under a --horizon shorter than the
+// script's: their scores say nothing about responding to the person.
+std::vector<std::string> tasks_ended_before_a_cue(const std::vector<std::vector<script::EpisodeSpec>>& by_task,
+                                                  const std::vector<eval::EpisodeResult>& episodes,
+                                                  double horizon) {
+  std::vector<std::string> tasks;
+  for (const std::vector<script::EpisodeSpec>& specs : by_task) {
+    if (specs.empty() || !(horizon < specs.front().horizon)) continue;
+    const std::string& task = specs.front().task;
+    const bool any_cue = std::any_of(episodes.begin(), episodes.end(), [&](const eval::EpisodeResult& r) {
+      return r.task == task && !r.metrics.cues.empty();
+    });
+    if (any_cue) continue;
+    if (eval::contract_from_act_graph(script::compile(specs.front())).cues.empty()) continue;
+    tasks.push_back(task);
+  }
+  return tasks;
 }
 
 int run_eval(const EvalOptions& o) {
@@ -192,6 +267,13 @@ int run_eval(const EvalOptions& o) {
   const eval::Latency latency = eval::parse_latency(o.latency);
   const std::vector<std::string> policies = split_list(o.policies);
   if (policies.empty()) throw core::InputError("--policy", "a policy list", "'" + o.policies + "'");
+  for (size_t i = 0; i < policies.size(); ++i) {
+    if (std::find(policies.begin(), policies.begin() + static_cast<std::ptrdiff_t>(i), policies[i]) !=
+        policies.begin() + static_cast<std::ptrdiff_t>(i)) {
+      throw core::InputError("--policy", "each policy once (the same policy twice runs the same episodes twice)",
+                             "'" + policies[i] + "' twice");
+    }
+  }
   for (const std::string& p : policies) policy::make_policy(p);  // unknown -> InputError
 
   // The episodes, grouped by task: sampled seeds, or a pool's split.
@@ -243,6 +325,7 @@ int run_eval(const EvalOptions& o) {
   for (const eval::EpisodeResult& r : finished) by_key.emplace(eval::episode_key(r), r);
 
   // Jobs in (task, policy, episode) order; those already finished are skipped.
+  const std::map<std::string, std::string> ids = task_ids();
   std::vector<Job> all_jobs;
   std::vector<size_t> todo;
   for (const std::vector<script::EpisodeSpec>& specs : by_task) {
@@ -250,6 +333,8 @@ int run_eval(const EvalOptions& o) {
       for (const script::EpisodeSpec& spec : specs) {
         Job job;
         job.spec = &spec;
+        const auto id = ids.find(spec.task);
+        job.task_id = id == ids.end() ? "" : id->second;
         job.hash = script::spec_hash(spec);
         job.policy = p;
         job.key = eval::episode_key(spec.task, p, job.hash, spec.seed);
@@ -296,7 +381,21 @@ int run_eval(const EvalOptions& o) {
   run.info = eval::current_run_info("none", options, run_options.constants);
   for (const Job& job : all_jobs) run.episodes.push_back(by_key.at(job.key));
   eval::write_run(o.out, run);
-  std::fputs(eval::summary_markdown(run).c_str(), stdout);
+  if (todo.empty()) {
+    std::fprintf(stderr, "hribench eval: nothing to resume: all %zu episodes of %s are finished\n",
+                 all_jobs.size(), o.out.c_str());
+  }
+  if (o.horizon > 0) {
+    for (const std::string& task : tasks_ended_before_a_cue(by_task, run.episodes, o.horizon)) {
+      std::fprintf(stderr,
+                   "hribench eval: warning: --horizon %g s ends every %s episode before its first cue; its "
+                   "scores say nothing about responding to the person\n",
+                   o.horizon, task.c_str());
+    }
+  }
+  std::fputs(eval::summary_markdown(run, eval::SummaryFor::kTerminal).c_str(), stdout);
+  std::fprintf(stdout, "\nThe metric constants and per-episode results: %s/summary.md, %s/results.json\n",
+               o.out.c_str(), o.out.c_str());
   return 0;
 }
 
@@ -308,7 +407,7 @@ HRIB_REGISTER_COMMAND(
       app.add_option("--policy", o->policies, "Policy references (comma-separated)")->required();
       CLI::Option* episodes =
           app.add_option("--episodes", o->episodes, "Episodes per task and policy (seeds S..S+N-1)");
-      CLI::Option* seed = app.add_option("--seed", o->seed, "First seed");
+      CLI::Option* seed = app.add_option("--seed", o->seed, "First seed")->check(kNonNegativeWhole);
       app.add_option("--pool", o->pool, "Evaluate the episodes of this generated pool (hribench generate)");
       app.add_option("--split", o->split, "The pool's split: eval (default), adapt or test");
       app.add_option("--threads", o->threads, "Worker threads");
