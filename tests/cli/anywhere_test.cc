@@ -47,6 +47,14 @@ TEST(AnywhereTest, CheckFindsTaskScriptsFromAnotherFolder) {
   fs::remove_all(dir);
 }
 
+TEST(AnywhereTest, RenderFindsTheTaskScriptFromAnotherFolder) {
+  const std::string dir = outside("render");
+  const auto r = run_hribench_in(dir, "render --task tasks/I1_point_pick.yaml --width 8 --height 8 --out x.png");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "x.png"));
+  fs::remove_all(dir);
+}
+
 TEST(AnywhereTest, EvalOnAPoolGivenByAbsolutePathFromAnotherFolder) {
   const std::string dir = outside("pool_abs");
   const std::string pool = (fs::path(HRIBENCH_SOURCE_DIR) / "pool" / "v3").string();
