@@ -418,6 +418,12 @@ HRIB_REGISTER_COMMAND(
       app.add_flag("--force", o->force, "Replace the run in --out");
       app.add_flag("--save-logs", o->save_logs,
                    "Write each episode's log to DIR/logs/*.hlog (hribench's binary episode log)");
+      app.footer([] {
+        std::string policies;
+        for (const std::string& name : policy::policy_names()) policies += (policies.empty() ? "" : ", ") + name;
+        return "Tasks: " + gen::task_list_text() + ".\nPolicies: " + policies +
+               " (docs/policies.md; options as NAME?key=value&key=value).";
+      });
       return [o, episodes, seed] {
         o->sampling_flags = episodes->count() > 0 || seed->count() > 0;
         return run_eval(*o);

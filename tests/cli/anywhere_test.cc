@@ -116,6 +116,20 @@ TEST(HelpTest, CommandHelpShowsDefaultsAndTasks) {
   EXPECT_NE(unknown.output.find("hribench help: expected a command ("), std::string::npos) << unknown.output;
 }
 
+TEST(HelpTest, EvalListsTasksAndPoliciesMotionListsPrimitives) {
+  const auto eval = run_hribench("help eval");
+  EXPECT_EQ(eval.exit_code, 0) << eval.output;
+  EXPECT_NE(eval.output.find("Tasks: C1 handover_h2r,"), std::string::npos) << eval.output;
+  const size_t policies = eval.output.find("\nPolicies: ");
+  ASSERT_NE(policies, std::string::npos) << eval.output;
+  for (const char* name : {"blind", "noop", "oracle", "random", "reactive"}) {
+    EXPECT_NE(eval.output.find(name, policies), std::string::npos) << name << "\n" << eval.output;
+  }
+  const auto motion = run_hribench("help motion");
+  EXPECT_EQ(motion.exit_code, 0) << motion.output;
+  EXPECT_NE(motion.output.find("Primitives: idle, walk_to, reach,"), std::string::npos) << motion.output;
+}
+
 TEST(MessagesTest, NegativeSeedIsRefused) {
   const auto r = run_hribench("generate --tasks I1 --seed -1 --out /tmp/never");
   EXPECT_EQ(r.exit_code, 2);
