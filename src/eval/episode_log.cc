@@ -8,6 +8,7 @@
 #include <iterator>
 #include <fmt/format.h>
 
+#include "core/files.h"
 #include "core/rng.h"
 
 namespace hribench::eval {
@@ -501,18 +502,7 @@ EpisodeLog decode_episode_log(std::string_view bytes, std::string_view where) {
 }
 
 void save_episode_log(const EpisodeLog& log, const std::filesystem::path& path) {
-  const std::string bytes = encode_episode_log(log);
-  std::filesystem::path temp = path;
-  temp += ".tmp";
-  std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  std::error_code error;
-  if (out) std::filesystem::rename(temp, path, error);
-  if (!out || error) {
-    std::filesystem::remove(temp, error);
-    throw core::InputError::Message(path.string(), "cannot write the episode log");
-  }
+  core::write_file_atomically(path, encode_episode_log(log));
 }
 
 EpisodeLog load_episode_log(const std::filesystem::path& path) {

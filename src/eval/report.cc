@@ -12,6 +12,7 @@
 #include <type_traits>
 
 #include "core/errors.h"
+#include "core/files.h"
 #include "core/json.h"
 #include "core/version.h"
 #include "model/robot.h"
@@ -619,33 +620,13 @@ nlohmann::json compare_json(const std::vector<std::pair<std::string, RunResults>
   return rows;
 }
 
-namespace {
-
-// Atomically: a temporary name beside the file, then a rename, so a reader (or a run killed
-// mid-write) sees the old file or the new one, never half of one.
-void write_text(const std::filesystem::path& path, const std::string& text) {
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) throw core::InputError::Message(path.string(), "cannot write the file");
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) throw core::InputError::Message(path.string(), "cannot write the file: " + ec.message());
-}
-
-}  // namespace
-
 void write_run(const std::filesystem::path& dir, const RunResults& run) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw core::InputError::Message(dir.string(), "cannot create the folder: " + ec.message());
-  write_text(dir / "results.json", results_to_json(run).dump(2) + "\n");
-  write_text(dir / "summary.md", summary_markdown(run));
-  write_text(dir / "summary.csv", summary_csv(run));
+  core::write_file_atomically(dir / "results.json", results_to_json(run).dump(2) + "\n");
+  core::write_file_atomically(dir / "summary.md", summary_markdown(run));
+  core::write_file_atomically(dir / "summary.csv", summary_csv(run));
 }
 
 RunResults load_run(const std::filesystem::path& path) {

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "core/files.h"
 #include "core/paths.h"
 #include "policy/registry.h"
 #include "script/check.h"
@@ -23,12 +24,6 @@ namespace hribench::gen {
 namespace {
 
 namespace fs = std::filesystem;
-
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out) throw core::InputError::Message(path.string(), "cannot be written");
-}
 
 // Runs judge(job) for jobs 0..n-1 on `threads` threads; done(job, record) is serialised.
 // The first exception stops new jobs and is rethrown after the running ones finish.
@@ -111,11 +106,11 @@ std::vector<CandidateRecord> prepare_out(const GenerateOptions& o, const core::J
     if (fs::exists(lines_file)) finished = load_candidates(lines_file);
     std::string text;
     for (const CandidateRecord& r : finished) text += core::canonical_json(to_json(r)) + "\n";
-    write_text(lines_file, text);
+    core::write_file_atomically(lines_file, text);
     return finished;
   }
   fs::create_directories(dir);
-  write_text(options_file, core::pretty_json(generator) + "\n");
+  core::write_file_atomically(options_file, core::pretty_json(generator) + "\n");
   return finished;
 }
 
@@ -342,7 +337,7 @@ GenerationReport generate(const GenerateOptions& o) {
     }
   }
   if (!missing.empty()) {
-    write_text(fs::path(o.out) / "report.md", report_markdown(report));
+    core::write_file_atomically(fs::path(o.out) / "report.md", report_markdown(report));
     throw core::InputError::Message("--candidates", "too few validated episodes to fill the splits: " +
                                                         missing + "; generate again with more candidates");
   }
@@ -364,13 +359,13 @@ GenerationReport generate(const GenerateOptions& o) {
                                       "judged; the script changed since the generation began: "
                                       "generate again without --resume", r.index, r.seed));
       }
-      write_text(dir / fmt::format("c{:04d}.json", r.index), script::spec_to_text(spec));
+      core::write_file_atomically(dir / fmt::format("c{:04d}.json", r.index), script::spec_to_text(spec));
       manifest.episodes.push_back(PoolEntry{names[t], o.scripts[t], splits[k], r.index, r.seed, r.hash});
     }
   }
-  write_text(fs::path(o.out) / "report.json", core::pretty_json(to_json(report)) + "\n");
-  write_text(fs::path(o.out) / "report.md", report_markdown(report));
-  write_text(fs::path(o.out) / "manifest.json", core::pretty_json(to_json(manifest)) + "\n");
+  core::write_file_atomically(fs::path(o.out) / "report.json", core::pretty_json(to_json(report)) + "\n");
+  core::write_file_atomically(fs::path(o.out) / "report.md", report_markdown(report));
+  core::write_file_atomically(fs::path(o.out) / "manifest.json", core::pretty_json(to_json(manifest)) + "\n");
   return report;
 }
 

@@ -229,7 +229,7 @@ TEST(EpisodeLog, SaveReplacesAtomically) {
     save_episode_log(other, "/nonexistent/dir/ep.hlog");
     FAIL();
   } catch (const core::InputError& e) {
-    EXPECT_STREQ(e.what(), "/nonexistent/dir/ep.hlog: cannot write the episode log");
+    EXPECT_STREQ(e.what(), "/nonexistent/dir/ep.hlog: cannot write the file: No such file or directory");
   }
 }
 
