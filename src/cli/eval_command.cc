@@ -7,6 +7,8 @@
 // With --pool DIR [--split eval|adapt|test] the episodes are those of a generated pool's split
 // (gen/pool.h: re-sampled from the manifest's seeds and checked against its hashes) instead of
 // sampled seeds; the results' options name the pool and its version.
+// With --shard i/N only every N-th job (job number mod N = i) runs, and the options record the
+// shard; `hribench merge` combines the N folders (eval/shard.h, docs/scale.md).
 // With --save-logs each episode's log is written to DIR/logs/TASK__POLICY__SEED__HASH.hlog
 // (eval/episode_log.h; by an observer of the episode, atomically: temporary name + rename).
 //
@@ -35,6 +37,7 @@
 
 #include "cli/command.h"
 #include "core/errors.h"
+#include "core/files.h"
 #include "core/paths.h"
 #include "eval/episode.h"
 #include "eval/metrics.h"
@@ -43,6 +46,7 @@
 #include "eval/runner.h"
 #include "eval/script_contract.h"
 #include "eval/script_driver.h"
+#include "eval/shard.h"
 #include "eval/task_episode.h"
 #include "gen/pool.h"
 #include "model/model.h"
@@ -72,6 +76,7 @@ struct EvalOptions {
   std::string split = "eval";  // with pool
   bool sampling_flags = false; // --episodes or --seed given
   bool save_logs = false;      // write DIR/logs/*.hlog
+  std::string shard;           // "i/N" or empty: every job
 };
 
 std::vector<std::string> split_list(const std::string& text) {
@@ -227,7 +232,7 @@ std::vector<eval::EpisodeResult> prepare_out(const EvalOptions& o, const nlohman
     for (const eval::EpisodeResult& r : finished) eval::append_episode_line(lines_file, r);
   }
   fs::create_directories(dir);
-  std::ofstream(options_file) << options.dump(2) << "\n";
+  core::write_file_atomically(options_file, options.dump(2) + "\n");
   return finished;
 }
 
@@ -265,6 +270,8 @@ int run_eval(const EvalOptions& o) {
     throw core::InputError("--horizon", "a positive number of seconds", std::to_string(o.horizon));
   }
   const eval::Latency latency = eval::parse_latency(o.latency);
+  const std::optional<eval::Shard> shard =
+      o.shard.empty() ? std::nullopt : std::optional<eval::Shard>(eval::parse_shard(o.shard, "--shard"));
   const std::vector<std::string> policies = split_list(o.policies);
   if (policies.empty()) throw core::InputError("--policy", "a policy list", "'" + o.policies + "'");
   for (size_t i = 0; i < policies.size(); ++i) {
@@ -320,17 +327,27 @@ int run_eval(const EvalOptions& o) {
                {"latency", eval::to_string(latency)},
                {"horizon", o.horizon > 0 ? nlohmann::json(o.horizon) : nlohmann::json("script")}};
   }
+  if (shard) {
+    size_t jobs = 0;
+    for (const std::vector<script::EpisodeSpec>& specs : by_task) jobs += specs.size() * policies.size();
+    options["shard"] = eval::to_string(*shard);
+    options["shard_of_jobs"] = jobs;
+  }
   const std::vector<eval::EpisodeResult> finished = prepare_out(o, options);
   std::map<std::string, eval::EpisodeResult> by_key;
   for (const eval::EpisodeResult& r : finished) by_key.emplace(eval::episode_key(r), r);
 
-  // Jobs in (task, policy, episode) order; those already finished are skipped.
+  // Jobs in (task, policy, episode) order (a shard's: every N-th); those already finished are
+  // skipped.
   const std::map<std::string, std::string> ids = task_ids();
   std::vector<Job> all_jobs;
   std::vector<size_t> todo;
+  size_t job_number = 0;
   for (const std::vector<script::EpisodeSpec>& specs : by_task) {
     for (const std::string& p : policies) {
       for (const script::EpisodeSpec& spec : specs) {
+        const size_t number = job_number++;
+        if (shard && !shard->owns(number)) continue;
         Job job;
         job.spec = &spec;
         const auto id = ids.find(spec.task);
@@ -416,6 +433,9 @@ HRIB_REGISTER_COMMAND(
       app.add_option("--out", o->out, "Output folder")->required();
       app.add_flag("--resume", o->resume, "Continue the run in --out (same options)");
       app.add_flag("--force", o->force, "Replace the run in --out");
+      app.add_option("--shard", o->shard,
+                     "Run only shard i of N (i/N, 0 <= i < N: every N-th episode); combine the N folders "
+                     "with hribench merge (docs/scale.md)");
       app.add_flag("--save-logs", o->save_logs,
                    "Write each episode's log to DIR/logs/*.hlog (hribench's binary episode log)");
       app.footer([] {

@@ -1,0 +1,130 @@
+#include "eval/shard.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cstdint>
+#include <optional>
+#include <set>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "eval/constants.h"
+
+namespace hribench::eval {
+namespace {
+
+constexpr int kMaxShards = 100000;
+
+std::optional<int> whole(std::string_view text) {
+  int value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || text.front() == '-') {
+    return std::nullopt;
+  }
+  return value;
+}
+
+// The first provenance field or constant in which `run` differs from `first`, or "".
+std::string provenance_difference(const RunResults& run, const RunResults& first) {
+  const std::pair<const char*, std::pair<const std::string*, const std::string*>> fields[] = {
+      {"HRIBench version", {&run.info.hribench_version, &first.info.hribench_version}},
+      {"git hash", {&run.info.git_hash, &first.info.git_hash}},
+      {"MuJoCo version", {&run.info.mujoco_version, &first.info.mujoco_version}},
+      {"renderer", {&run.info.renderer, &first.info.renderer}}};
+  for (const auto& [name, values] : fields) {
+    if (*values.first != *values.second) return fmt::format("{} {} (not {})", name, *values.first, *values.second);
+  }
+  if (constant_table(run.info.constants) != constant_table(first.info.constants)) return "other metric constants";
+  return "";
+}
+
+}  // namespace
+
+Shard parse_shard(std::string_view text, std::string_view where) {
+  const size_t slash = text.find('/');
+  const std::optional<int> i = slash == std::string_view::npos ? std::nullopt : whole(text.substr(0, slash));
+  const std::optional<int> n = slash == std::string_view::npos ? std::nullopt : whole(text.substr(slash + 1));
+  if (!i || !n || *n < 1 || *n > kMaxShards || *i >= *n) {
+    throw core::InputError(std::string(where), fmt::format("i/N with 0 <= i < N <= {} (e.g. 0/4)", kMaxShards),
+                           "'" + std::string(text) + "'");
+  }
+  return Shard{*i, *n};
+}
+
+std::string to_string(const Shard& shard) { return fmt::format("{}/{}", shard.index, shard.count); }
+
+nlohmann::json merged_options(const ShardRun& shard) {
+  nlohmann::json options = shard.options;
+  options.erase("shard");
+  options.erase("shard_of_jobs");
+  return options;
+}
+
+RunResults merge_shards(const std::vector<ShardRun>& shards) {
+  if (shards.empty()) throw core::InputError("merge", "shard folders", "none");
+  std::vector<const ShardRun*> by_index;
+  for (const ShardRun& s : shards) {
+    if (!s.options.contains("shard") || !s.options.at("shard").is_string() ||
+        !s.options.contains("shard_of_jobs") || !s.options.at("shard_of_jobs").is_number_integer() || s.options.at("shard_of_jobs").get<int64_t>() < 0) {
+      throw core::InputError::Message(s.dir, "is not a shard run (its options.json has no \"shard\" and \"shard_of_jobs\")");
+    }
+    const Shard shard = parse_shard(s.options.at("shard").get<std::string>(), s.dir + " (options.json shard)");
+    if (by_index.empty()) by_index.assign(static_cast<size_t>(shard.count), nullptr);
+    if (static_cast<size_t>(shard.count) != by_index.size()) {
+      throw core::InputError::Message(s.dir, fmt::format("is shard {} of another split than {} ({} shards)",
+                                                         to_string(shard), shards.front().dir, by_index.size()));
+    }
+    const ShardRun*& slot = by_index[static_cast<size_t>(shard.index)];
+    if (slot) throw core::InputError::Message(s.dir, fmt::format("is shard {} again ({} is too)", to_string(shard), slot->dir));
+    slot = &s;
+  }
+  for (size_t i = 0; i < by_index.size(); ++i) {
+    if (!by_index[i]) {
+      throw core::InputError::Message("merge", fmt::format("shard {}/{} is missing", i, by_index.size()));
+    }
+  }
+  const ShardRun& first = *by_index.front();
+  const size_t total = first.options.at("shard_of_jobs").get<size_t>();
+  for (const ShardRun* s : by_index) {
+    const nlohmann::json options = merged_options(*s);
+    const nlohmann::json expected = merged_options(first);
+    if (options != expected) {
+      std::set<std::string> keys;
+      for (const auto& [key, value] : options.items()) keys.insert(key);
+      for (const auto& [key, value] : expected.items()) keys.insert(key);
+      std::string differing;
+      for (const std::string& key : keys) {
+        if (options.value(key, nlohmann::json()) != expected.value(key, nlohmann::json())) {
+          differing += (differing.empty() ? "" : ", ") + key;
+        }
+      }
+      throw core::InputError::Message(s->dir, "ran with other options than " + first.dir + " (" + differing + ")");
+    }
+    if (const std::string d = provenance_difference(s->results, first.results); !d.empty()) {
+      throw core::InputError::Message(s->dir, "was made by other code than " + first.dir + ": " + d);
+    }
+    if (s->options.at("shard_of_jobs") != first.options.at("shard_of_jobs")) {
+      throw core::InputError::Message(s->dir, fmt::format("is a shard of {} jobs, {} of {}", s->options.at("shard_of_jobs").dump(),
+                                                          first.dir, total));
+    }
+  }
+  // Shard i holds the jobs i, i + N, i + 2N, ... of the full list.
+  const size_t n = by_index.size();
+  RunResults merged;
+  merged.info = first.results.info;
+  merged.info.options = merged_options(first);
+  for (size_t i = 0; i < n; ++i) {
+    const size_t share = total / n + (i < total % n ? 1 : 0);
+    if (by_index[i]->results.episodes.size() != share) {
+      throw core::InputError::Message(
+          by_index[i]->dir, fmt::format("holds {} episodes, expected {} (shard {}/{} of {} jobs)",
+                                        by_index[i]->results.episodes.size(), share, i, n, total));
+    }
+  }
+  for (size_t job = 0; job < total; ++job) merged.episodes.push_back(by_index[job % n]->results.episodes[job / n]);
+  return merged;
+}
+
+}  // namespace hribench::eval
