@@ -8,7 +8,7 @@
 // repository (so tasks/, pool/ and tests/ are found as from anywhere), with absolute /tmp paths
 // moved into that folder and the sizes shrunk (one task, one episode, a 1 s horizon, a few candidates,
 // tiny images): what is tested is that the command line is accepted and runs to the end.
-// Lines with placeholders (`[...]`, `A|B`, words like FILE or DIR) are templates: like inline
+// Lines with placeholders (`[...]`, `A|B`, words like FILE or DIR, $VARIABLES) are templates: like inline
 // commands they are checked against `hribench help COMMAND`.
 
 #include <gtest/gtest.h>
@@ -104,9 +104,10 @@ std::vector<std::string> words(const std::string& text) {
   return out;
 }
 
-// A template: optional parts, alternatives or placeholder words (FILE, DIR, SECONDS, ...).
+// A template: optional parts, alternatives, placeholder words (FILE, DIR, SECONDS, ...) or
+// variables of a job script ($POLICY_HOST, ${SLURM_ARRAY_TASK_ID}).
 bool is_template(const std::string& text) {
-  static const std::regex placeholder(R"((^|[\s=/])[A-Z][A-Z_]{2,}\b)");
+  static const std::regex placeholder(R"((^|[\s=/$])\{?[A-Z][A-Z_]{2,}\b)");
   return text.find('[') != std::string::npos || text.find('|') != std::string::npos ||
          text.find("...") != std::string::npos || text.find('<') != std::string::npos ||
          std::regex_search(text, placeholder);
