@@ -21,6 +21,15 @@ struct Command {
   std::function<std::function<int()>(CLI::App& app)> setup;
 };
 
+// A check for counts and seeds: digits only ("-1" would otherwise wrap to 2^64 - 1), with the
+// message "expected a non-negative whole number, got '-1'".
+inline const CLI::Validator kNonNegativeWhole(
+    [](std::string& text) -> std::string {
+      const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+      return digits ? std::string() : "expected a non-negative whole number, got '" + text + "'";
+    },
+    "UINT");
+
 // All registered commands, sorted by name.
 std::vector<Command>& registry();
 

@@ -2,7 +2,8 @@
 // seed) episode, scores it, appends it to DIR/episodes.jsonl as it finishes (so --resume loses
 // nothing), and writes DIR/results.json, summary.md and summary.csv at the end.
 // DIR/options.json records the options that change results; another run's folder is refused
-// unless --resume (same options) or --force.
+// unless --resume (same options; or more --episodes, which extends the run with the next
+// seeds) or --force, and an episode pool's folder is refused outright.
 // With --pool DIR [--split eval|adapt|test] the episodes are those of a generated pool's split
 // (gen/pool.h: re-sampled from the manifest's seeds and checked against its hashes) instead of
 // sampled seeds; the results' options name the pool and its version.
@@ -19,24 +20,42 @@
 #include "eval/report.h"
 #include "eval/run.h"
 #include "gen/evaluation.h"
+#include "gen/pool.h"
 #include "policy/registry.h"
 
 namespace hribench::cli {
 namespace {
 
-int run_eval(const gen::EvalRequest& request) {
+int run_eval(const gen::EvalRequest& o) {
+  const eval::PolicyMaker make = [](const std::string& reference) { return policy::make_policy(reference); };
+  eval::RunSettings settings;
+  const eval::RunPlan plan = gen::plan_evaluation(o, make, settings);
   bool progressed = false;
-  const eval::RunResults run = gen::run_evaluation(
-      request, [](const std::string& reference) { return policy::make_policy(reference); },
-      [&](const eval::RunProgress& p) {
+  const eval::RunResults run = eval::run_plan(
+      plan, settings, make, [&](const eval::RunProgress& p) {
         // A one-line progress indicator.
         std::fprintf(stderr, "\rhribench eval: %zu/%zu episodes (%zu resumed), %.2f ep/s, ETA %.0f s ",
                      p.done, p.total, p.resumed, p.rate, p.eta);
         std::fflush(stderr);
         progressed = true;
       });
-  if (progressed) std::fprintf(stderr, "\n");
-  std::fputs(eval::summary_markdown(run).c_str(), stdout);
+  if (progressed) {
+    std::fprintf(stderr, "\n");
+  } else {
+    std::fprintf(stderr, "hribench eval: nothing to resume: all %zu episodes of %s are finished\n",
+                 run.episodes.size(), o.out.c_str());
+  }
+  if (o.horizon > 0) {
+    for (const std::string& task : gen::tasks_ended_before_a_cue(plan, run.episodes, o.horizon)) {
+      std::fprintf(stderr,
+                   "hribench eval: warning: --horizon %g s ends every %s episode before its first cue; its "
+                   "scores say nothing about responding to the person\n",
+                   o.horizon, task.c_str());
+    }
+  }
+  std::fputs(eval::summary_markdown(run, eval::SummaryFor::kTerminal).c_str(), stdout);
+  std::fprintf(stdout, "\nThe metric constants and per-episode results: %s/summary.md, %s/results.json\n",
+               o.out.c_str(), o.out.c_str());
   return 0;
 }
 
@@ -48,7 +67,7 @@ HRIB_REGISTER_COMMAND(
       app.add_option("--policy", o->policies, "Policy references (comma-separated)")->required();
       CLI::Option* episodes =
           app.add_option("--episodes", o->episodes, "Episodes per task and policy (seeds S..S+N-1)");
-      CLI::Option* seed = app.add_option("--seed", o->seed, "First seed");
+      CLI::Option* seed = app.add_option("--seed", o->seed, "First seed")->check(kNonNegativeWhole);
       app.add_option("--pool", o->pool, "Evaluate the episodes of this generated pool (hribench generate)");
       app.add_option("--split", o->split, "The pool's split: eval (default), adapt or test");
       app.add_option("--threads", o->threads, "Worker threads");
@@ -59,6 +78,12 @@ HRIB_REGISTER_COMMAND(
       app.add_flag("--force", o->force, "Replace the run in --out");
       app.add_flag("--save-logs", o->save_logs,
                    "Write each episode's log to DIR/logs/*.hlog (hribench's binary episode log)");
+      app.footer([] {
+        std::string policies;
+        for (const std::string& name : policy::policy_names()) policies += (policies.empty() ? "" : ", ") + name;
+        return "Tasks: " + gen::task_list_text() + ".\nPolicies: " + policies +
+               " (docs/policies.md; options as NAME?key=value&key=value).";
+      });
       return [o, episodes, seed] {
         o->sampling_flags = episodes->count() > 0 || seed->count() > 0;
         return run_eval(*o);

@@ -46,18 +46,18 @@ HRIB_REGISTER_COMMAND(
     [](CLI::App& app) -> std::function<int()> {
       auto a = std::make_shared<GenerateArgs>();
       app.add_option("--tasks", a->tasks, "Task names, files, or all (comma-separated)");
-      app.add_option("--candidates", a->candidates, "Candidates per task")->check(CLI::NonNegativeNumber);
+      app.add_option("--candidates", a->candidates, "Candidates per task")->check(kNonNegativeWhole);
       app.add_option("--seed", a->seed, "Generation seed (candidate seeds derive from it)")
-          ->check(CLI::NonNegativeNumber);
+          ->check(kNonNegativeWhole);
       app.add_option("--threads", a->threads, "Worker threads");
       app.add_option("--executable-by", a->executable_by,
                      "Policy that must solve each candidate (the executability filter), or none");
       app.add_option("--adapt", a->splits.adapt, "Episodes per task in the adapt split")
-          ->check(CLI::NonNegativeNumber);
+          ->check(kNonNegativeWhole);
       app.add_option("--eval", a->splits.eval, "Episodes per task in the eval split")
-          ->check(CLI::NonNegativeNumber);
+          ->check(kNonNegativeWhole);
       app.add_option("--test", a->splits.test, "Episodes per task in the hidden test split")
-          ->check(CLI::NonNegativeNumber);
+          ->check(kNonNegativeWhole);
       app.add_option("--out", a->out, "Pool folder")->required();
       app.add_flag("--resume", a->resume, "Continue an interrupted generation in --out (same options)");
       app.add_flag("--quiet", a->quiet, "No progress line");

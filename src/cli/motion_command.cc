@@ -385,6 +385,13 @@ HRIB_REGISTER_COMMAND(
       app.add_option("--up", o->up, "files: up axis auto, y or z")->capture_default_str();
       app.add_option("--unit", o->unit, "BVH: metres per file unit, e.g. 0.01 for cm (default: guessed)")
           ->each([o](const std::string&) { o->unit_given = true; });
+      app.footer([] {
+        std::string names;
+        for (const human::PrimitiveInfo& p : human::primitive_catalog()) {
+          names += (names.empty() ? "" : ", ") + std::string(p.name);
+        }
+        return "Primitives: " + names + " (docs/motion.md).";
+      });
       return [o] { return run_motion(*o); };
     });
 

@@ -33,6 +33,7 @@
 
 #include "cli/command.h"
 #include "core/errors.h"
+#include "core/paths.h"
 #include "eval/episode_log.h"
 #include "eval/runner.h"
 #include "eval/episode.h"
@@ -42,6 +43,7 @@
 #include "render/png.h"
 #include "render/renderer.h"
 #include "script/check.h"
+#include "script/runtime.h"
 #include "script/sample.h"
 #include "sim/data.h"
 
@@ -77,6 +79,12 @@ void check_writable(const std::string& path) {
   if (std::filesystem::is_directory(p)) {
     throw core::InputError("--out", "a file path", "the directory '" + path + "'");
   }
+  std::string extension = p.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension != ".png") {
+    throw core::InputError("--out", "a .png file (render writes PNG images)", "'" + path + "'");
+  }
   const std::string dir = p.has_parent_path() ? p.parent_path().string() : ".";
   const bool exists = access(path.c_str(), F_OK) == 0;
   if (access(exists ? path.c_str() : dir.c_str(), W_OK) != 0) {
@@ -106,6 +114,14 @@ struct Moment {
 
 constexpr const char* kAtExpected = "a time in seconds or an event of the episode, optionally +S";
 
+// `text` without blanks: predicate events are named as the script writes them,
+// "in(obj_b, bin)", and may be typed "in(obj_b,bin)".
+std::string without_blanks(std::string text) {
+  text.erase(std::remove_if(text.begin(), text.end(), [](unsigned char c) { return std::isspace(c) != 0; }),
+             text.end());
+  return text;
+}
+
 Moment parse_moment(const std::string& text) {
   Moment moment;
   // Event names start with a letter; anything else must be a time.
@@ -115,33 +131,30 @@ Moment parse_moment(const std::string& text) {
     if (!moment.time) throw core::InputError("--at", kAtExpected, "'" + text + "'");
     return moment;
   }
-  moment.event = text;
-  const size_t plus = text.rfind('+');
+  moment.event = without_blanks(text);
+  const size_t plus = moment.event.rfind('+');
   if (plus != std::string::npos) {
-    const std::optional<double> offset = parse_seconds(std::string_view(text).substr(plus + 1));
+    const std::optional<double> offset = parse_seconds(std::string_view(moment.event).substr(plus + 1));
     if (!offset) throw core::InputError("--at", kAtExpected, "'" + text + "'");
-    moment.event = text.substr(0, plus);
+    moment.event = moment.event.substr(0, plus);
     moment.offset = *offset;
   }
-  if (moment.event.empty() || moment.event.find_first_of(" \t") != std::string::npos) {
-    throw core::InputError("--at", kAtExpected, "'" + text + "'");
-  }
+  if (moment.event.empty()) throw core::InputError("--at", kAtExpected, "'" + text + "'");
   return moment;
 }
 
-// The names of the episode's act, phase and cue events, in order of first occurrence, for the
-// "unknown event" message.
-std::string event_names(const eval::EpisodeLog& log) {
+// Every event the episode's script can give, in the graph's order (acts' ACT.start and
+// ACT.end, motion phases ACT.PHASE, watched predicates as written), then "cue": for the
+// "unknown event" message, whether or not this run reached them.
+std::string event_names(const script::EpisodeSpec& spec) {
   std::vector<std::string> names;
-  for (const eval::Event& e : log.events) {
-    const bool listed =
-        e.kind == eval::EventKind::kActStart || e.kind == eval::EventKind::kActEnd ||
-        e.kind == eval::EventKind::kPhase || e.kind == eval::EventKind::kCue;
-    if (listed && std::find(names.begin(), names.end(), e.name) == names.end()) {
-      names.push_back(e.name);
+  for (std::string name : script::compile(spec).event_names) {
+    for (const char* truth : {":true", ":false"}) {
+      if (name.size() > std::strlen(truth) && name.ends_with(truth)) name.resize(name.size() - std::strlen(truth));
     }
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
   }
-  if (names.empty()) return "none";
+  names.push_back("cue");
   return fmt::format("{}", fmt::join(names, ", "));
 }
 
@@ -163,7 +176,7 @@ class MomentWatch : public eval::EpisodeObserver {
     for (; seen_ < events.size(); ++seen_) {
       const eval::Event& e = events[seen_];
       if (stop_at_) continue;
-      if (moment_.event == "cue" ? e.kind == eval::EventKind::kCue : e.name == moment_.event) {
+      if (moment_.event == "cue" ? e.kind == eval::EventKind::kCue : without_blanks(e.name) == moment_.event) {
         stop_at_ = e.time + moment_.offset;
         what_ = fmt::format("{} at {:.2f} s{}", e.name, e.time,
                             moment_.offset > 0 ? fmt::format(" + {} s", moment_.offset) : "");
@@ -215,7 +228,7 @@ RenderedMoment run_to_moment(eval::Episode& episode, const std::string& task_id,
   }
   throw core::InputError("--at",
                          "an event of " + task_id + " seed " + std::to_string(o.seed) + " with " +
-                             o.policy + " (" + event_names(log) + ")",
+                             o.policy + " (" + event_names(spec) + ")",
                          "'" + moment.event + "'");
 }
 
@@ -289,10 +302,13 @@ int run_render(const RenderOptions& o, bool view_given, bool task_options_given)
     model = std::make_shared<const model::Model>(model::build(scene));
     still.emplace(sim::make_data(*model));
   } else {
-    if (!std::filesystem::is_regular_file(o.task)) {
+    // A relative script is taken from the current folder, else from the data root
+    // (docs/getting-started.md "Running from anywhere").
+    const std::filesystem::path script = core::resolve_data_path(o.task);
+    if (!std::filesystem::is_regular_file(script)) {
       throw core::InputError("--task", "a scenario script file", "'" + o.task + "'");
     }
-    script::EpisodeSpec spec = script::sample(script::load_scenario(o.task), o.seed);
+    script::EpisodeSpec spec = script::sample(script::load_scenario(script.string()), o.seed);
     model::SceneSpec scene = eval::scene_spec_from_episode(spec);
     scene.shadows = o.pretty;  // lights only: the physics is the same
     model = std::make_shared<const model::Model>(model::build(scene));

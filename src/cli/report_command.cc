@@ -1,5 +1,7 @@
-// `hribench report DIR... [--force]`: one headline table comparing the runs in the given folders
-// (or results.json files), each labelled by its path. Runs that cannot be compared without a
+// `hribench report DIR... [--by role|task] [--format md|csv|json] [--force]`: one headline table
+// comparing the runs in the given folders (or results.json files), each labelled by its path,
+// by role group and overall or by task; as Markdown, or every estimate with its interval as CSV
+// or JSON (for programs). Runs that cannot be compared without a
 // word — another horizon, other seeds, pool, split, latency, HRIBench version or tasks — are
 // refused with the first difference named, or with --force compared with every difference
 // printed as a warning. A policy in two runs (two checkpoints behind one name, say) is a warning:
@@ -61,7 +63,21 @@ Comparison compare_runs(const std::vector<std::pair<std::string, eval::RunResult
   return c;
 }
 
-int run_report(const std::vector<std::string>& dirs, bool force) {
+struct ReportOptions {
+  std::vector<std::string> dirs;
+  std::string by = "role";
+  std::string format = "md";
+  bool force = false;
+};
+
+int run_report(const ReportOptions& o) {
+  if (o.by != "role" && o.by != "task") throw core::InputError("--by", "role or task", "'" + o.by + "'");
+  if (o.format != "md" && o.format != "csv" && o.format != "json") {
+    throw core::InputError("--format", "md, csv or json", "'" + o.format + "'");
+  }
+  const eval::CompareBy by = o.by == "task" ? eval::CompareBy::kTask : eval::CompareBy::kRole;
+  const std::vector<std::string>& dirs = o.dirs;
+  const bool force = o.force;
   std::vector<std::pair<std::string, eval::RunResults>> runs;
   runs.reserve(dirs.size());
   for (const std::string& dir : dirs) runs.emplace_back(dir, eval::load_run(dir));
@@ -74,20 +90,27 @@ int run_report(const std::vector<std::string>& dirs, bool force) {
   }
   c.notes.insert(c.notes.begin(), c.differences.begin(), c.differences.end());
   for (const std::string& note : c.notes) std::fprintf(stderr, "hribench report: warning: %s\n", note.c_str());
-  std::fputs(eval::compare_markdown(runs).c_str(), stdout);
+  if (o.format == "csv") {
+    std::fputs(eval::compare_csv(runs, by).c_str(), stdout);
+  } else if (o.format == "json") {
+    std::fputs((eval::compare_json(runs, by).dump(2) + "\n").c_str(), stdout);
+  } else {
+    std::fputs(eval::compare_markdown(runs, by).c_str(), stdout);
+  }
   return 0;
 }
 
 HRIB_REGISTER_COMMAND("report", "Compare the results of runs (folders written by eval)",
                       [](CLI::App& app) -> std::function<int()> {
-                        auto dirs = std::make_shared<std::vector<std::string>>();
-                        auto force = std::make_shared<bool>(false);
-                        app.add_option("dirs", *dirs, "Run folders or results.json files")
-                            ->required();
-                        app.add_flag("--force", *force,
+                        auto o = std::make_shared<ReportOptions>();
+                        app.add_option("dirs", o->dirs, "Run folders or results.json files")->required();
+                        app.add_option("--by", o->by, "Rows by role group (and overall) or by task: role | task");
+                        app.add_option("--format", o->format,
+                                       "md (a table), csv or json (every estimate with its interval)");
+                        app.add_flag("--force", o->force,
                                      "Compare runs that differ in horizon, seeds, pool, split, latency, "
                                      "version or tasks (each difference is a warning)");
-                        return [dirs, force] { return run_report(*dirs, *force); };
+                        return [o] { return run_report(*o); };
                       });
 
 }  // namespace

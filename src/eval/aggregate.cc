@@ -3,14 +3,24 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <tuple>
 
 #include "core/rng.h"
 
 namespace hribench::eval {
 
 EpisodeResult make_result(const EpisodeLog& log, EpisodeMetrics metrics) {
-  return EpisodeResult{log.task,   log.role,   log.policy,        log.robot,        log.spec_hash,
-                       log.seed,   log.status, log.status_reason, std::move(metrics)};
+  EpisodeResult r;
+  r.task = log.task;
+  r.role = log.role;
+  r.policy = log.policy;
+  r.robot = log.robot;
+  r.spec_hash = log.spec_hash;
+  r.seed = log.seed;
+  r.status = log.status;
+  r.status_reason = log.status_reason;
+  r.metrics = std::move(metrics);
+  return r;
 }
 
 Estimate wilson_interval(int successes, int n, double z) {
@@ -152,35 +162,54 @@ GroupSummary summarize_group(const std::string& group, const std::string& policy
   if (count > 0) s.safety = sum / count;
   for (const EpisodeResult* r : episodes) {
     if (r->metrics.primary_label) ++s.failures[std::string(to_string(*r->metrics.primary_label))];
+    if (r->metrics.critical_contact) ++s.critical_contacts;
   }
   return s;
 }
 
 }  // namespace
 
+std::string group_label(const GroupSummary& s) {
+  return s.task_id.empty() ? s.group : s.task_id + " " + s.group;
+}
+
 std::vector<GroupSummary> summarize(const std::vector<EpisodeResult>& results, GroupBy by,
                                     const MetricConstants& c) {
-  // Policies in order of first appearance; groups in the documented order.
+  // Policies in order of first appearance; groups in the documented order. A group's sort key
+  // is its role's rank, then (tasks) its id, then its name; ids without a value sort last.
+  struct Group {
+    std::string name;
+    int rank = 0;
+    std::string task_id;
+  };
   std::vector<std::string> policies;
-  std::vector<std::string> groups;
+  std::vector<Group> groups;
   for (const EpisodeResult& r : results) {
     if (std::find(policies.begin(), policies.end(), r.policy) == policies.end()) {
       policies.push_back(r.policy);
     }
     const std::string g = group_of(r, by);
-    if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
+    if (std::none_of(groups.begin(), groups.end(), [&](const Group& x) { return x.name == g; })) {
+      groups.push_back({g, role_rank(by == GroupBy::kOverall ? g : r.role),
+                        by == GroupBy::kTask ? r.task_id : std::string()});
+    }
   }
-  std::sort(groups.begin(), groups.end(), [](const std::string& a, const std::string& b) {
-    return role_rank(a) != role_rank(b) ? role_rank(a) < role_rank(b) : a < b;
+  std::sort(groups.begin(), groups.end(), [](const Group& a, const Group& b) {
+    const auto key = [](const Group& g) {
+      return std::make_tuple(g.rank, g.task_id.empty(), g.task_id.size(), g.task_id, g.name);
+    };
+    return key(a) < key(b);
   });
   std::vector<GroupSummary> out;
   for (const std::string& policy : policies) {
-    for (const std::string& group : groups) {
+    for (const Group& group : groups) {
       std::vector<const EpisodeResult*> episodes;
       for (const EpisodeResult& r : results) {
-        if (r.policy == policy && group_of(r, by) == group) episodes.push_back(&r);
+        if (r.policy == policy && group_of(r, by) == group.name) episodes.push_back(&r);
       }
-      if (!episodes.empty()) out.push_back(summarize_group(group, policy, episodes, c));
+      if (episodes.empty()) continue;
+      out.push_back(summarize_group(group.name, policy, episodes, c));
+      out.back().task_id = group.task_id;
     }
   }
   return out;

@@ -19,6 +19,8 @@ namespace hribench::eval {
 // One scored episode, as results.json lists it.
 struct EpisodeResult {
   std::string task;
+  std::string task_id; // "I1" (docs/tasks.md), "" for a script outside the data root's tasks/
+  std::string variant; // the script's variant, "" when it has none
   std::string role;    // "instructor" | "collaborator" | "intruder"
   std::string policy;
   std::string robot;   // the robot description's name (model/robot.h), e.g. "panda"
@@ -28,7 +30,8 @@ struct EpisodeResult {
   std::string status_reason;
   EpisodeMetrics metrics;
 };
-// The log's identity (its robot included) and status with `metrics`.
+// The log's identity (its robot included) and status with `metrics` (task_id and variant are
+// the spec's, not the log's: the caller fills them in).
 EpisodeResult make_result(const EpisodeLog& log, EpisodeMetrics metrics);
 
 // A value with its 95 % interval over `n` episodes.
@@ -53,8 +56,10 @@ enum class GroupBy { kTask, kRole, kOverall };
 
 struct GroupSummary {
   std::string group;   // task name, role name, or "overall"
+  std::string task_id; // with GroupBy::kTask: the task's id ("I1"), or "" when it has none
   std::string policy;
   int episodes = 0;
+  int critical_contacts = 0;  // episodes with a contact above the critical limit
   std::optional<Estimate> csr;         // rate
   std::optional<Estimate> ct;          // mean over all episodes (failures count as H)
   std::optional<Estimate> ct_success;  // mean over successes
@@ -75,8 +80,12 @@ struct GroupSummary {
   std::map<std::string, int> failures;  // primary failure label -> episodes
 };
 
+// "I1 point_pick" for a task group with an id, else the group's name.
+std::string group_label(const GroupSummary& s);
+
 // Summaries of `results` grouped by policy and `by`, ordered by policy (first appearance),
-// then group (roles in the order instructor, collaborator, intruder; tasks by name).
+// then group (roles in the order instructor, collaborator, intruder; tasks by their role in
+// that order, then by id as docs/tasks.md lists them, I1..I5, C1..C4, X1..X4, then by name).
 std::vector<GroupSummary> summarize(const std::vector<EpisodeResult>& results, GroupBy by,
                                     const MetricConstants& c = {});
 

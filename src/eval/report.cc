@@ -112,7 +112,7 @@ json episode_to_json(const EpisodeResult& r) {
   for (const CueResult& c : m.cues) {
     cues.push_back({{"name", c.name}, {"cue_time", c.cue_time},
                     {"response_time", optional_json(c.response_time)},
-                    {"responded", c.responded}, {"latency", c.latency}});
+                    {"responded", c.responded}, {"latency", c.latency}, {"premature", c.premature}});
   }
   json syncs = json::array();
   for (const SyncResult& s : m.syncs) {
@@ -128,6 +128,8 @@ json episode_to_json(const EpisodeResult& r) {
   for (const FailureLabel l : m.labels) labels.push_back(std::string(to_string(l)));
   return json{
       {"task", r.task},
+      {"task_id", r.task_id},
+      {"variant", r.variant},
       {"role", r.role},
       {"policy", r.policy},
       {"robot", r.robot},
@@ -170,6 +172,9 @@ EpisodeResult episode_from_json(const json& j, const std::string& where) {
   const Fields f(j, where);
   EpisodeResult r;
   r.task = f.string("task");
+  // Results written before episodes named their task id and variant leave them empty.
+  r.task_id = j.contains("task_id") ? f.string("task_id") : std::string();
+  r.variant = j.contains("variant") ? f.string("variant") : std::string();
   r.role = f.string("role");
   r.policy = f.string("policy");
   // Results written before episodes named their robot are all the Panda's.
@@ -204,8 +209,10 @@ EpisodeResult episode_from_json(const json& j, const std::string& where) {
   const json& cues = f.array("cues");
   for (size_t i = 0; i < cues.size(); ++i) {
     const Fields c(cues[i], fmt::format("{}[{}]", f.where("cues"), i));
+    // Results written before premature go cues were marked have none.
     m.cues.push_back({c.string("name"), c.number("cue_time"), c.optional_number("response_time"),
-                      c.boolean("responded"), c.number("latency")});
+                      c.boolean("responded"), c.number("latency"),
+                      cues[i].contains("premature") && c.boolean("premature")});
   }
   const json& syncs = f.array("syncs");
   for (size_t i = 0; i < syncs.size(); ++i) {
@@ -257,6 +264,44 @@ std::vector<EpisodeResult> load_episode_lines(const std::filesystem::path& path)
   return episodes;
 }
 
+namespace {
+
+json estimate_json(const std::optional<Estimate>& e) {
+  if (!e) return nullptr;
+  return json{{"value", e->value}, {"low", e->low}, {"high", e->high}, {"n", e->n}};
+}
+
+json summary_json(const GroupSummary& s) {
+  json j{{"group", s.group}, {"policy", s.policy}, {"episodes", s.episodes}};
+  if (!s.task_id.empty()) j["task_id"] = s.task_id;
+  const std::pair<const char*, const std::optional<Estimate>*> estimates[] = {
+      {"csr", &s.csr},     {"ct", &s.ct},       {"ct_success", &s.ct_success}, {"ir", &s.ir},
+      {"rsp", &s.rsp},     {"tsync", &s.tsync}, {"oc", &s.oc},                 {"cfr", &s.cfr},
+      {"hcs", &s.hcs},     {"cir", &s.cir},     {"dsr", &s.dsr},               {"r_idle", &s.r_idle},
+      {"h_idle", &s.h_idle}, {"c_act", &s.c_act}, {"f_del", &s.f_del}};
+  for (const auto& [name, e] : estimates) j[name] = estimate_json(*e);
+  j["rsp_median"] = optional_json(s.rsp_median);
+  j["safety"] = optional_json(s.safety);
+  j["critical_contacts"] = s.critical_contacts;
+  j["failures"] = s.failures;  // primary label -> episodes
+  return j;
+}
+
+}  // namespace
+
+json aggregates_to_json(const RunResults& run) {
+  json aggregates = json::object();
+  for (const auto& [level, by] : {std::pair{"task", GroupBy::kTask}, std::pair{"role", GroupBy::kRole},
+                                  std::pair{"overall", GroupBy::kOverall}}) {
+    json rows = json::array();
+    for (const GroupSummary& s : summarize(run.episodes, by, run.info.constants)) {
+      rows.push_back(summary_json(s));
+    }
+    aggregates[level] = std::move(rows);
+  }
+  return aggregates;
+}
+
 json results_to_json(const RunResults& run) {
   json constants = json::object();
   visit_constants(run.info.constants, [&](const char* name, const auto& value, const char*) {
@@ -275,6 +320,7 @@ json results_to_json(const RunResults& run) {
         {"robots", run_robots(run)}}},
       {"options", run.info.options},
       {"metric_constants", constants},
+      {"aggregates", aggregates_to_json(run)},
       {"episodes", episodes},
   };
 }
@@ -345,7 +391,7 @@ std::string cell(const std::optional<Estimate>& e) {
 std::string cell(const std::optional<double>& v) { return v ? fmt::format("{:.2f}", *v) : "—"; }
 
 std::string headline_row(const GroupSummary& s) {
-  return fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", s.group, s.policy, cell(s.csr),
+  return fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", group_label(s), s.policy, cell(s.csr),
                      cell(s.ct), cell(s.rsp), cell(s.tsync), cell(s.oc), cell(s.safety));
 }
 
@@ -364,9 +410,66 @@ std::vector<GroupSummary> roles_then_overall(const RunResults& run) {
   return rows;
 }
 
+// The main failure labels of a group: its two most frequent primary labels ("premature 20,
+// collision 6"), or "—" when no episode failed.
+std::string main_failures(const GroupSummary& s) {
+  std::vector<std::pair<std::string, int>> labels(s.failures.begin(), s.failures.end());
+  std::stable_sort(labels.begin(), labels.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::string text;
+  for (size_t i = 0; i < labels.size() && i < 2; ++i) {
+    text += fmt::format("{}{} {}", i ? ", " : "", labels[i].first, labels[i].second);
+  }
+  return text.empty() ? "—" : text;
+}
+
+// One row per task: CSR of each policy, critical contacts of each, and the main failure labels
+// of each (the README's per-task table).
+std::string task_table(const RunResults& run) {
+  const std::vector<GroupSummary> rows = summarize(run.episodes, GroupBy::kTask, run.info.constants);
+  std::vector<std::string> policies;
+  std::vector<const GroupSummary*> tasks;  // the first policy's row of each task, in order
+  for (const GroupSummary& s : rows) {
+    if (std::find(policies.begin(), policies.end(), s.policy) == policies.end()) policies.push_back(s.policy);
+    if (std::none_of(tasks.begin(), tasks.end(), [&](const GroupSummary* t) { return t->group == s.group; })) {
+      tasks.push_back(&s);
+    }
+  }
+  std::sort(tasks.begin(), tasks.end(), [&](const GroupSummary* a, const GroupSummary* b) {
+    const auto position = [&](const GroupSummary* t) {
+      return std::find_if(rows.begin(), rows.end(), [&](const GroupSummary& r) { return r.group == t->group; }) -
+             rows.begin();
+    };
+    return position(a) < position(b);
+  });
+  std::string policy_list;
+  for (const std::string& p : policies) policy_list += (policy_list.empty() ? "" : " / ") + p;
+  std::string md = "| Task |";
+  for (const std::string& p : policies) md += " " + p + " |";
+  md += " critical contacts (" + policy_list + ") | main failure labels (" + policy_list + ") |\n|---|";
+  for (size_t i = 0; i < policies.size(); ++i) md += "---:|";
+  md += "---|---|\n";
+  for (const GroupSummary* task : tasks) {
+    std::string csr;
+    std::string contacts;
+    std::string failures;
+    for (const std::string& p : policies) {
+      const auto it = std::find_if(rows.begin(), rows.end(), [&](const GroupSummary& r) {
+        return r.group == task->group && r.policy == p;
+      });
+      const bool present = it != rows.end();
+      csr += " " + (present ? cell(it->csr ? std::optional<double>(it->csr->value) : std::nullopt) : "—") + " |";
+      contacts += (contacts.empty() ? "" : " / ") + (present ? std::to_string(it->critical_contacts) : "—");
+      failures += (failures.empty() ? "" : " / ") + (present ? main_failures(*it) : "—");
+    }
+    md += "| " + group_label(*task) + " |" + csr + " " + contacts + " | " + failures + " |\n";
+  }
+  return md;
+}
+
 }  // namespace
 
-std::string summary_markdown(const RunResults& run) {
+std::string summary_markdown(const RunResults& run, SummaryFor audience) {
   const std::vector<GroupSummary> rows = roles_then_overall(run);
   std::string md = "# HRIBench results\n\n";
   std::string robots;
@@ -390,6 +493,10 @@ std::string summary_markdown(const RunResults& run) {
                       cell(s.rsp_median), cell(s.ct_success));
   }
   md += "\n## Per task\n\n";
+  md += "CSR per task and policy, episodes with a critical contact, and the two most frequent "
+        "primary failure labels.\n\n";
+  md += task_table(run);
+  md += "\n";
   md += headline_header("Task");
   for (const GroupSummary& s : summarize(run.episodes, GroupBy::kTask, run.info.constants)) {
     md += headline_row(s);
@@ -418,6 +525,7 @@ std::string summary_markdown(const RunResults& run) {
     }
     md += "\n";
   }
+  if (audience == SummaryFor::kTerminal) return md;
   md += "\n## Metric constants\n\n| constant | value | unit |\n|---|---|---|\n";
   for (const NamedConstant& c : constant_table(run.info.constants)) {
     md += fmt::format("| {} | {} | {} |\n", c.name, c.value, c.unit);
@@ -425,38 +533,59 @@ std::string summary_markdown(const RunResults& run) {
   return md;
 }
 
-std::string summary_csv(const RunResults& run) {
-  std::string csv = "level,group,policy,episodes";
-  const std::vector<std::string> estimates = {"csr", "ct", "ct_success", "ir", "rsp", "tsync",
-                                              "oc", "cfr", "hcs", "cir", "dsr", "r_idle",
-                                              "h_idle", "c_act", "f_del"};
-  for (const std::string& name : estimates) csv += "," + name + "," + name + "_low," + name + "_high";
-  csv += ",rsp_median,safety\n";
+namespace {
+
+constexpr std::pair<const char*, GroupBy> kLevels[] = {
+    {"role", GroupBy::kRole}, {"task", GroupBy::kTask}, {"overall", GroupBy::kOverall}};
+
+std::string csv_header() {
+  std::string csv = "level,group,task_id,policy,episodes";
+  for (const char* name : {"csr", "ct", "ct_success", "ir", "rsp", "tsync", "oc", "cfr", "hcs", "cir",
+                           "dsr", "r_idle", "h_idle", "c_act", "f_del"}) {
+    csv += fmt::format(",{0},{0}_low,{0}_high", name);
+  }
+  return csv + ",rsp_median,safety,critical_contacts\n";
+}
+
+std::string csv_row(const char* level, const GroupSummary& s) {
   const auto number = [](const std::optional<double>& v) { return v ? fmt::format("{}", *v) : ""; };
-  for (const auto& [level, by] : {std::pair{"role", GroupBy::kRole}, std::pair{"task", GroupBy::kTask},
-                                  std::pair{"overall", GroupBy::kOverall}}) {
-    for (const GroupSummary& s : summarize(run.episodes, by, run.info.constants)) {
-      csv += fmt::format("{},{},{},{}", level, s.group, s.policy, s.episodes);
-      for (const auto* e : {&s.csr, &s.ct, &s.ct_success, &s.ir, &s.rsp, &s.tsync, &s.oc, &s.cfr,
-                            &s.hcs, &s.cir, &s.dsr, &s.r_idle, &s.h_idle, &s.c_act, &s.f_del}) {
-        if (*e) {
-          csv += fmt::format(",{},{},{}", (*e)->value, (*e)->low, (*e)->high);
-        } else {
-          csv += ",,,";
-        }
-      }
-      csv += "," + number(s.rsp_median) + "," + number(s.safety) + "\n";
-    }
+  std::string csv = fmt::format("{},{},{},{},{}", level, s.group, s.task_id, s.policy, s.episodes);
+  for (const auto* e : {&s.csr, &s.ct, &s.ct_success, &s.ir, &s.rsp, &s.tsync, &s.oc, &s.cfr, &s.hcs,
+                        &s.cir, &s.dsr, &s.r_idle, &s.h_idle, &s.c_act, &s.f_del}) {
+    csv += *e ? fmt::format(",{},{},{}", (*e)->value, (*e)->low, (*e)->high) : std::string(",,,");
+  }
+  return csv + "," + number(s.rsp_median) + "," + number(s.safety) + "," +
+         std::to_string(s.critical_contacts) + "\n";
+}
+
+// A comparison's rows of one run: role groups then overall, or tasks.
+std::vector<GroupSummary> compared_rows(const RunResults& run, CompareBy by) {
+  return by == CompareBy::kTask ? summarize(run.episodes, GroupBy::kTask, run.info.constants)
+                                : roles_then_overall(run);
+}
+
+const char* level_of(const GroupSummary& s, CompareBy by) {
+  if (by == CompareBy::kTask) return "task";
+  return s.group == "overall" ? "overall" : "role";
+}
+
+}  // namespace
+
+std::string summary_csv(const RunResults& run) {
+  std::string csv = csv_header();
+  for (const auto& [level, by] : kLevels) {
+    for (const GroupSummary& s : summarize(run.episodes, by, run.info.constants)) csv += csv_row(level, s);
   }
   return csv;
 }
 
-std::string compare_markdown(const std::vector<std::pair<std::string, RunResults>>& runs) {
-  std::string md =
-      "| Run | Role group | Policy | CSR↑ | CT↓ (s) | Rsp↓ (s) | TSync↑ | OC↑ | Safety↑ |\n"
-      "|---|---|---|---|---|---|---|---|---|\n";
+std::string compare_markdown(const std::vector<std::pair<std::string, RunResults>>& runs, CompareBy by) {
+  std::string md = fmt::format(
+      "| Run | {} | Policy | CSR↑ | CT↓ (s) | Rsp↓ (s) | TSync↑ | OC↑ | Safety↑ |\n"
+      "|---|---|---|---|---|---|---|---|---|\n",
+      by == CompareBy::kTask ? "Task" : "Role group");
   for (const auto& [label, run] : runs) {
-    for (const GroupSummary& s : roles_then_overall(run)) md += "| " + label + " " + headline_row(s);
+    for (const GroupSummary& s : compared_rows(run, by)) md += "| " + label + " " + headline_row(s);
   }
   // Runs scored with different constants are not comparable: say so.
   for (const auto& [label, run] : runs) {
@@ -469,13 +598,43 @@ std::string compare_markdown(const std::vector<std::pair<std::string, RunResults
   return md;
 }
 
+std::string compare_csv(const std::vector<std::pair<std::string, RunResults>>& runs, CompareBy by) {
+  std::string csv = "run," + csv_header();
+  for (const auto& [label, run] : runs) {
+    for (const GroupSummary& s : compared_rows(run, by)) csv += label + "," + csv_row(level_of(s, by), s);
+  }
+  return csv;
+}
+
+nlohmann::json compare_json(const std::vector<std::pair<std::string, RunResults>>& runs, CompareBy by) {
+  json rows = json::array();
+  for (const auto& [label, run] : runs) {
+    for (const GroupSummary& s : compared_rows(run, by)) {
+      json row = summary_json(s);
+      row["run"] = label;
+      row["level"] = level_of(s, by);
+      rows.push_back(std::move(row));
+    }
+  }
+  return rows;
+}
+
 namespace {
 
+// Atomically: a temporary name beside the file, then a rename, so a reader (or a run killed
+// mid-write) sees the old file or the new one, never half of one.
 void write_text(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-  out.close();
-  if (!out) throw core::InputError::Message(path.string(), "cannot write the file");
+  std::filesystem::path temporary = path;
+  temporary += ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) throw core::InputError::Message(path.string(), "cannot write the file");
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, path, ec);
+  if (ec) throw core::InputError::Message(path.string(), "cannot write the file: " + ec.message());
 }
 
 }  // namespace

@@ -55,6 +55,11 @@ void append_episode_line(const std::filesystem::path& path, const EpisodeResult&
 // writing it) is dropped; any other bad line is a core::InputError at "FILE:LINE".
 std::vector<EpisodeResult> load_episode_lines(const std::filesystem::path& path);
 
+// The aggregates (docs/metrics.md "Aggregation") as results.json holds them: {"task": [...],
+// "role": [...], "overall": [...]}, one object per (group, policy) with each estimate as
+// {value, low, high, n} (null when not applicable), rsp_median, safety, critical_contacts and
+// failures (primary label -> episodes). Derived from the episodes: written, never read back.
+nlohmann::json aggregates_to_json(const RunResults& run);
 nlohmann::json results_to_json(const RunResults& run);
 RunResults results_from_json(const nlohmann::json& json, const std::string& where);
 
@@ -64,11 +69,19 @@ void write_run(const std::filesystem::path& dir, const RunResults& run);
 // Reads DIR/results.json (or the file itself when given a file). Throws core::InputError.
 RunResults load_run(const std::filesystem::path& path);
 
-// The documents themselves.
-std::string summary_markdown(const RunResults& run);
+// The documents themselves. The terminal's summary leaves out the metric constants table
+// (it is in summary.md and results.json).
+enum class SummaryFor { kFile, kTerminal };
+std::string summary_markdown(const RunResults& run, SummaryFor audience = SummaryFor::kFile);
 std::string summary_csv(const RunResults& run);
 // One headline table over several runs (label = a name per run, e.g. its folder), by role
-// group and overall, followed by a note if their metric constants differ.
-std::string compare_markdown(const std::vector<std::pair<std::string, RunResults>>& runs);
+// group and overall (or by task), followed by a note if their metric constants differ.
+enum class CompareBy { kRole, kTask };
+std::string compare_markdown(const std::vector<std::pair<std::string, RunResults>>& runs,
+                             CompareBy by = CompareBy::kRole);
+// The same rows with every estimate and its interval: CSV (summary.csv's columns after a `run`
+// column) and JSON (aggregates_to_json's objects with `run` and `level` added).
+std::string compare_csv(const std::vector<std::pair<std::string, RunResults>>& runs, CompareBy by);
+nlohmann::json compare_json(const std::vector<std::pair<std::string, RunResults>>& runs, CompareBy by);
 
 }  // namespace hribench::eval

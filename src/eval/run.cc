@@ -6,6 +6,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <set>
 #include <utility>
 
 #include "core/errors.h"
@@ -21,6 +22,7 @@ namespace fs = std::filesystem;
 
 struct Job {
   const script::EpisodeSpec* spec = nullptr;
+  std::string task_id;  // docs/tasks.md's id of the task ("" for a script outside tasks/)
   std::string hash;
   std::string policy;
   std::string key;
@@ -52,10 +54,15 @@ EpisodeResult run_one(const Job& job, const RunOptions& base, WorkerPolicies& po
     std::vector<EpisodeObserver*> observers;
     if (log_file) observers.push_back(&writer.emplace(*log_file));
     const ScoredEpisode scored = run_task_episode(spec, *policy, setup, base, observers);
-    return make_result(scored.log, scored.metrics);
+    EpisodeResult result = make_result(scored.log, scored.metrics);
+    result.task_id = job.task_id;
+    result.variant = spec.variant;
+    return result;
   } catch (const std::exception& e) {
     EpisodeResult result;
     result.task = spec.task;
+    result.task_id = job.task_id;
+    result.variant = spec.variant;
     result.role = spec.role;
     result.policy = job.policy;
     result.spec_hash = job.hash;
@@ -79,12 +86,48 @@ nlohmann::json read_json(const fs::path& path) {
   return json;
 }
 
-// Refuses a folder holding another run unless resume (same options) or force; returns the
-// episodes already finished (rewriting the episode file without a torn last line).
+// The options of `recorded` that `asked` sets otherwise: "episodes: 2 in the run, 3 asked".
+std::vector<std::string> option_differences(const nlohmann::json& recorded, const nlohmann::json& asked) {
+  std::vector<std::string> differences;
+  std::set<std::string> keys;
+  for (const auto& [key, value] : recorded.items()) keys.insert(key);
+  for (const auto& [key, value] : asked.items()) keys.insert(key);
+  for (const std::string& key : keys) {
+    const std::string was = recorded.contains(key) ? recorded.at(key).dump() : "(not set)";
+    const std::string now = asked.contains(key) ? asked.at(key).dump() : "(not set)";
+    if (was != now) differences.push_back(key + ": " + was + " in the run, " + now + " asked");
+  }
+  return differences;
+}
+
+// A run with the same options but more --episodes (the same first seed): the asked run extends
+// the recorded one with the next seeds.
+bool extends(const nlohmann::json& recorded, const nlohmann::json& asked) {
+  if (!recorded.contains("episodes") || !asked.contains("episodes")) return false;
+  nlohmann::json recorded_rest = recorded;
+  nlohmann::json asked_rest = asked;
+  recorded_rest.erase("episodes");
+  asked_rest.erase("episodes");
+  return recorded_rest == asked_rest && recorded.at("episodes").is_number_integer() &&
+         asked.at("episodes").get<int>() >= recorded.at("episodes").get<int>();
+}
+
+// Refuses a file, an episode pool, or a folder holding another run unless resume (same
+// options, or more episodes) or force; returns the episodes already finished (rewriting the
+// episode file without a torn last line).
 std::vector<EpisodeResult> prepare_out(const RunSettings& s, const nlohmann::json& options) {
   const fs::path& dir = s.out;
+  const std::string out = dir.string();
   const fs::path options_file = dir / "options.json";
   const fs::path lines_file = dir / "episodes.jsonl";
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+    throw core::InputError("--out", "a folder for the run", "'" + out + "', a file");
+  }
+  if (fs::exists(dir / "manifest.json", ec)) {
+    throw core::InputError("--out", "a folder for the run",
+                           "'" + out + "', which holds an episode pool (manifest.json); choose another folder");
+  }
   std::vector<EpisodeResult> finished;
   const bool has_run = fs::exists(options_file) || fs::exists(lines_file) ||
                        fs::exists(dir / "results.json");
@@ -96,11 +139,17 @@ std::vector<EpisodeResult> prepare_out(const RunSettings& s, const nlohmann::jso
     fs::remove_all(dir / "logs");
   } else if (has_run && !s.resume) {
     throw core::InputError::Message(
-        "--out", dir.string() + " already holds a run; use --resume to continue it or --force to replace it");
+        "--out", out + " already holds a run; use --resume to continue it or --force to replace it");
   } else if (has_run) {
-    if (!fs::exists(options_file) || read_json(options_file) != options) {
+    if (!fs::exists(options_file)) {
+      throw core::InputError::Message("--resume", out + " holds no options.json; use --force to replace the run");
+    }
+    const nlohmann::json recorded = read_json(options_file);
+    if (recorded != options && !extends(recorded, options)) {
+      std::string list;
+      for (const std::string& d : option_differences(recorded, options)) list += (list.empty() ? "" : "; ") + d;
       throw core::InputError::Message(
-          "--resume", dir.string() + " holds a run with other options; use --force to replace it");
+          "--resume", out + " holds a run with other options (" + list + "); use --force to replace it");
     }
     if (fs::exists(lines_file)) finished = load_episode_lines(lines_file);
     fs::remove(lines_file);
@@ -127,6 +176,8 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
       for (const script::EpisodeSpec& spec : specs) {
         Job job;
         job.spec = &spec;
+        const auto id = plan.task_ids.find(spec.task);
+        job.task_id = id == plan.task_ids.end() ? "" : id->second;
         job.hash = script::spec_hash(spec);
         job.policy = p;
         job.key = episode_key(spec.task, p, job.hash, spec.seed);

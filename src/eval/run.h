@@ -3,7 +3,8 @@
 // worker threads, each episode appended to OUT/episodes.jsonl as it finishes (so a resumed run
 // loses nothing), and OUT/results.json, summary.md and summary.csv written at the end.
 // OUT/options.json records the options that change results; a folder holding another run is
-// refused unless resumed (same options) or forced. The run `hribench eval` and Python's
+// refused unless resumed (same options; or more episodes, which extends the run with the next
+// seeds) or forced, and an episode pool's folder (or a file) is refused outright. The run `hribench eval` and Python's
 // hribench.evaluate make (gen/evaluation.h builds the plan from their options).
 //
 // Reuse: each worker thread makes one instance of each policy (PolicyMaker) for the whole run
@@ -13,6 +14,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,6 +32,7 @@ struct RunPlan {
   std::vector<std::vector<script::EpisodeSpec>> by_task;  // the episodes, grouped by task
   std::vector<std::string> policies;  // policy references, as the results name them
   nlohmann::json options = nlohmann::json::object();  // OUT/options.json (--resume compares it)
+  std::map<std::string, std::string> task_ids;  // docs/tasks.md's id of each task by name (I1)
 };
 
 struct RunSettings {
@@ -56,8 +59,8 @@ using PolicyMaker = std::function<std::unique_ptr<policy::Policy>(const std::str
 
 // Runs the plan into settings.out and returns the results in job order (task, policy,
 // episode), whatever the completion order, thread count or resume history. Throws
-// core::InputError when `out` holds another run (neither resume nor force, or resumed with
-// other options) or cannot be written. An episode's trouble (a scene that cannot be built,
+// core::InputError when `out` is a file or a pool, holds another run (neither resume nor
+// force, or resumed with other options: the differences named) or cannot be written. An episode's trouble (a scene that cannot be built,
 // a policy that fails) is that episode's status, never an exception.
 RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const PolicyMaker& make,
                     const std::function<void(const RunProgress&)>& progress = nullptr);

@@ -1,12 +1,15 @@
 #include "gen/evaluation.h"
 
+#include <algorithm>
 #include <utility>
 
 #include "core/errors.h"
 #include "core/paths.h"
 #include "eval/runner.h"
+#include "eval/script_contract.h"
 #include "gen/pool.h"
 #include "script/check.h"
+#include "script/runtime.h"
 #include "script/sample.h"
 
 namespace hribench::gen {
@@ -43,6 +46,13 @@ eval::RunPlan plan_evaluation(const EvalRequest& o, const eval::PolicyMaker& mak
   const eval::Latency latency = eval::parse_latency(o.latency);
   const std::vector<std::string> policies = split_list(o.policies);
   if (policies.empty()) throw core::InputError("--policy", "a policy list", "'" + o.policies + "'");
+  for (size_t i = 0; i < policies.size(); ++i) {
+    if (std::find(policies.begin(), policies.begin() + static_cast<std::ptrdiff_t>(i), policies[i]) !=
+        policies.begin() + static_cast<std::ptrdiff_t>(i)) {
+      throw core::InputError("--policy", "each policy once (the same policy twice runs the same episodes twice)",
+                             "'" + policies[i] + "' twice");
+    }
+  }
   for (const std::string& p : policies) make(p);  // unknown -> InputError
 
   // The episodes, grouped by task: sampled seeds, or a pool's split.
@@ -89,6 +99,7 @@ eval::RunPlan plan_evaluation(const EvalRequest& o, const eval::PolicyMaker& mak
                     {"latency", eval::to_string(latency)},
                     {"horizon", o.horizon > 0 ? nlohmann::json(o.horizon) : nlohmann::json("script")}};
   }
+  for (const TaskFile& task : task_catalogue()) plan.task_ids.emplace(task.name, task.id);
   settings.out = o.out;
   settings.threads = o.threads;
   settings.resume = o.resume;
@@ -97,6 +108,23 @@ eval::RunPlan plan_evaluation(const EvalRequest& o, const eval::PolicyMaker& mak
   settings.run_options.latency = latency;
   settings.run_options.horizon = o.horizon > 0 ? o.horizon : 0;  // 0: each script's own horizon
   return plan;
+}
+
+std::vector<std::string> tasks_ended_before_a_cue(const eval::RunPlan& plan,
+                                                  const std::vector<eval::EpisodeResult>& episodes,
+                                                  double horizon) {
+  std::vector<std::string> tasks;
+  for (const std::vector<script::EpisodeSpec>& specs : plan.by_task) {
+    if (specs.empty() || !(horizon < specs.front().horizon)) continue;
+    const std::string& task = specs.front().task;
+    const bool any_cue = std::any_of(episodes.begin(), episodes.end(), [&](const eval::EpisodeResult& r) {
+      return r.task == task && !r.metrics.cues.empty();
+    });
+    if (any_cue) continue;
+    if (eval::contract_from_act_graph(script::compile(specs.front())).cues.empty()) continue;
+    tasks.push_back(task);
+  }
+  return tasks;
 }
 
 eval::RunResults run_evaluation(const EvalRequest& request, const eval::PolicyMaker& make,

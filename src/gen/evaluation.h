@@ -37,6 +37,12 @@ struct EvalRequest {
 eval::RunPlan plan_evaluation(const EvalRequest& request, const eval::PolicyMaker& make,
                               eval::RunSettings& settings);
 
+// Tasks whose episodes all ended before their first cue under a `horizon` (s) shorter than
+// the script's: their scores say nothing about responding to the person (a warning).
+std::vector<std::string> tasks_ended_before_a_cue(const eval::RunPlan& plan,
+                                                  const std::vector<eval::EpisodeResult>& episodes,
+                                                  double horizon);
+
 // plan_evaluation, then eval::run_plan.
 eval::RunResults run_evaluation(const EvalRequest& request, const eval::PolicyMaker& make,
                                 const std::function<void(const eval::RunProgress&)>& progress = nullptr);

@@ -47,6 +47,14 @@ TEST(AnywhereTest, CheckFindsTaskScriptsFromAnotherFolder) {
   fs::remove_all(dir);
 }
 
+TEST(AnywhereTest, RenderFindsTheTaskScriptFromAnotherFolder) {
+  const std::string dir = outside("render");
+  const auto r = run_hribench_in(dir, "render --task tasks/I1_point_pick.yaml --width 8 --height 8 --out x.png");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(fs::path(dir) / "x.png"));
+  fs::remove_all(dir);
+}
+
 TEST(AnywhereTest, EvalOnAPoolGivenByAbsolutePathFromAnotherFolder) {
   const std::string dir = outside("pool_abs");
   const std::string pool = (fs::path(HRIBENCH_SOURCE_DIR) / "pool" / "v3").string();
@@ -106,6 +114,20 @@ TEST(HelpTest, CommandHelpShowsDefaultsAndTasks) {
   const auto unknown = run_hribench("help frobnicate");
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_NE(unknown.output.find("hribench help: expected a command ("), std::string::npos) << unknown.output;
+}
+
+TEST(HelpTest, EvalListsTasksAndPoliciesMotionListsPrimitives) {
+  const auto eval = run_hribench("help eval");
+  EXPECT_EQ(eval.exit_code, 0) << eval.output;
+  EXPECT_NE(eval.output.find("Tasks: C1 handover_h2r,"), std::string::npos) << eval.output;
+  const size_t policies = eval.output.find("\nPolicies: ");
+  ASSERT_NE(policies, std::string::npos) << eval.output;
+  for (const char* name : {"blind", "noop", "oracle", "random", "reactive"}) {
+    EXPECT_NE(eval.output.find(name, policies), std::string::npos) << name << "\n" << eval.output;
+  }
+  const auto motion = run_hribench("help motion");
+  EXPECT_EQ(motion.exit_code, 0) << motion.output;
+  EXPECT_NE(motion.output.find("Primitives: idle, walk_to, reach,"), std::string::npos) << motion.output;
 }
 
 TEST(MessagesTest, NegativeSeedIsRefused) {

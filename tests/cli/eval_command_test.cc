@@ -53,8 +53,16 @@ TEST_F(EvalRunTest, WritesResultsAndSummariesWithEveryEpisode) {
   EXPECT_TRUE(fs::exists(fs::path(dir_) / "summary.csv"));
   const std::string summary = read_text(fs::path(dir_) / "summary.md");
   EXPECT_NE(summary.find("noop"), std::string::npos);
-  // summary.md is printed; the progress line counts to 2 of 2.
-  EXPECT_NE(first_.output.find(summary), std::string::npos);
+  // summary.md is printed without its constants table; the progress line counts to 2 of 2.
+  const std::string printed = summary.substr(0, summary.find("\n## Metric constants"));
+  EXPECT_NE(first_.output.find(printed), std::string::npos);
+  EXPECT_EQ(first_.output.find("| still_sustain |"), std::string::npos) << first_.output;
+  EXPECT_NE(summary.find("| still_sustain |"), std::string::npos);
+  // The task is shown with its id; episodes carry the id and the variant.
+  EXPECT_NE(summary.find("| I4 stop_go | 0.00 | 0 | no_response 2 |"), std::string::npos) << summary;
+  EXPECT_EQ(results.at("episodes")[0].at("task_id"), "I4");
+  EXPECT_TRUE(results.at("episodes")[0].at("variant").is_string());
+  EXPECT_EQ(results.at("aggregates").at("task")[0].at("task_id"), "I4");
   EXPECT_NE(first_.output.find("2/2 episodes"), std::string::npos) << first_.output;
   EXPECT_EQ(count_lines(read_text(fs::path(dir_) / "episodes.jsonl")), 2);
 }
@@ -67,13 +75,34 @@ TEST_F(EvalRunTest, RerunIntoTheSameFolderIsRefusedInOneLine) {
   EXPECT_NE(r.output.find("--resume"), std::string::npos) << r.output;
 }
 
-TEST_F(EvalRunTest, ResumeWithOtherOptionsIsRefused) {
+TEST_F(EvalRunTest, ResumeWithOtherOptionsNamesThem) {
   ASSERT_EQ(first_.exit_code, 0) << first_.output;
   const auto r = run_hribench(
-      "eval --tasks I4 --policy noop --episodes 3 --seed 3 --horizon 2 --resume --out " + dir_);
+      "eval --tasks I4 --policy noop --episodes 3 --seed 4 --horizon 2 --resume --out " + dir_);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_EQ(count_lines(r.output), 1) << r.output;
-  EXPECT_NE(r.output.find("other options"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("hribench: error: --resume: " + dir_ +
+                          " holds a run with other options (episodes: 2 in the run, 3 asked; seed: 3 in "
+                          "the run, 4 asked); use --force to replace it"),
+            std::string::npos)
+      << r.output;
+}
+
+// More --episodes with the same options extends a run with the next seeds.
+TEST(EvalCommandTest, ResumeWithMoreEpisodesExtendsTheRun) {
+  const std::string dir = temp_dir("extend");
+  ASSERT_EQ(run_hribench("eval --tasks I4 --policy noop --episodes 1 --seed 3 --horizon 1 --out " + dir).exit_code, 0);
+  const auto r = run_hribench("eval --tasks I4 --policy noop --episodes 2 --seed 3 --horizon 1 --resume --out " + dir);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("2/2 episodes (1 resumed)"), std::string::npos) << r.output;
+  const nlohmann::json results = nlohmann::json::parse(read_text(fs::path(dir) / "results.json"));
+  ASSERT_EQ(results.at("episodes").size(), 2u);
+  EXPECT_EQ(results.at("episodes")[1].at("seed"), 4);
+  EXPECT_EQ(results.at("options").at("episodes"), 2);
+  // Fewer episodes is another run, not a shorter view of this one.
+  const auto fewer = run_hribench("eval --tasks I4 --policy noop --episodes 1 --seed 3 --horizon 1 --resume --out " + dir);
+  EXPECT_EQ(fewer.exit_code, 2) << fewer.output;
+  EXPECT_NE(fewer.output.find("(episodes: 2 in the run, 1 asked)"), std::string::npos) << fewer.output;
 }
 
 TEST_F(EvalRunTest, ResumeOfAFinishedRunRedoesNothing) {
@@ -82,6 +111,8 @@ TEST_F(EvalRunTest, ResumeOfAFinishedRunRedoesNothing) {
   const auto r = run_hribench(kTinyRun + dir_ + " --resume");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("episodes ("), std::string::npos) << "no progress line expected";
+  EXPECT_NE(r.output.find("hribench eval: nothing to resume: all 2 episodes of " + dir_ + " are finished"),
+            std::string::npos) << r.output;
   EXPECT_EQ(count_lines(read_text(fs::path(dir_) / "episodes.jsonl")), 2);
   EXPECT_EQ(read_text(fs::path(dir_) / "results.json"), before);
 }
@@ -161,6 +192,47 @@ TEST(EvalCommandTest, ContradictoryOptionsAreOneLine) {
     EXPECT_EQ(count_lines(r.output), 1) << flags << ": " << r.output;
   }
   EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(EvalCommandTest, HygieneMessages) {
+  const std::string dir = temp_dir("hygiene");
+  const auto twice = run_hribench("eval --tasks I4 --policy noop,reactive,noop --out " + dir);
+  EXPECT_EQ(twice.exit_code, 2) << twice.output;
+  EXPECT_EQ(count_lines(twice.output), 1) << twice.output;
+  EXPECT_NE(twice.output.find("--policy: expected each policy once (the same policy twice runs the same "
+                              "episodes twice), got 'noop' twice"),
+            std::string::npos) << twice.output;
+  const auto negative = run_hribench("eval --tasks I4 --policy noop --seed -1 --out " + dir);
+  EXPECT_EQ(negative.exit_code, 2) << negative.output;
+  EXPECT_EQ(count_lines(negative.output), 1) << negative.output;
+  EXPECT_NE(negative.output.find("--seed: expected a non-negative whole number, got '-1'"), std::string::npos)
+      << negative.output;
+  EXPECT_FALSE(fs::exists(dir));
+  // --out a file, or a pool's folder.
+  fs::create_directories(dir);
+  std::ofstream(fs::path(dir) / "file.txt") << "x";
+  const auto file = run_hribench("eval --tasks I4 --policy noop --out " + dir + "/file.txt");
+  EXPECT_EQ(file.exit_code, 2) << file.output;
+  EXPECT_NE(file.output.find("--out: expected a folder for the run, got '" + dir + "/file.txt', a file"),
+            std::string::npos) << file.output;
+  fs::create_directories(fs::path(dir) / "pool");
+  std::ofstream(fs::path(dir) / "pool" / "manifest.json") << "{}";
+  const auto pool = run_hribench("eval --tasks I4 --policy noop --out " + dir + "/pool");
+  EXPECT_EQ(pool.exit_code, 2) << pool.output;
+  EXPECT_EQ(count_lines(pool.output), 1) << pool.output;
+  EXPECT_NE(pool.output.find("which holds an episode pool (manifest.json); choose another folder"),
+            std::string::npos) << pool.output;
+  EXPECT_FALSE(fs::exists(fs::path(dir) / "pool" / "options.json"));
+}
+
+// A --horizon that ends every episode of a task before its first cue is accepted, with a
+// warning saying what its scores cannot say.
+TEST(EvalCommandTest, HorizonBeforeTheFirstCueIsAWarning) {
+  const auto r = run_hribench("eval --tasks I1 --policy noop --episodes 1 --horizon 0.5 --out " + temp_dir("horizon"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("hribench eval: warning: --horizon 0.5 s ends every point_pick episode before its "
+                          "first cue; its scores say nothing about responding to the person"),
+            std::string::npos) << r.output;
 }
 
 TEST(ReportCommandTest, MissingRunIsOneLine) {

@@ -241,8 +241,30 @@ TEST(RenderCommandTest, UnknownEventNamesTheEpisodesEvents) {
             0u)
       << output;
   EXPECT_NE(output.find("), got 'point.nosuch'\n"), std::string::npos) << output;
+  // Every event the script can give, reached or not: the robot act and the watched goal.
+  EXPECT_NE(output.find(", put.start, put.end, "), std::string::npos) << output;
+  EXPECT_NE(output.find(", cue), got"), std::string::npos) << output;
   EXPECT_FALSE(std::filesystem::exists(out));
   std::remove(short_task.c_str());
+}
+
+TEST(RenderCommandTest, OutMustBeAPng) {
+  expect_one_line_error("render --out " + temp_png("hribench_render_z") + ".jpg",
+                        "--out: expected a .png file (render writes PNG images), got '" +
+                            temp_png("hribench_render_z") + ".jpg'");
+}
+
+// A watched predicate, as the script writes it (blanks optional), is a moment.
+TEST(RenderCommandTest, PredicateMomentIsRendered) {
+  const std::string out = temp_png("hribench_render_predicate.png");
+  const std::string task = std::string(" --task ") + kPointPick + " --seed 0 --policy oracle --width 8 --height 8";
+  for (const std::string at : {"'in(obj_b, bin)'", "'in(obj_b,bin)'"}) {
+    const auto r = run_hribench("render --out " + out + task + " --at " + at);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("oracle, in(obj_b, bin) at "), std::string::npos) << r.output;
+    EXPECT_TRUE(std::filesystem::exists(out));
+    std::remove(out.c_str());
+  }
 }
 
 TEST(RenderCommandTest, BadTaskFilesAreOneLine) {

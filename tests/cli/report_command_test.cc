@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "support/run_command.h"
 #include "support/test_files.h"
 
@@ -52,6 +54,28 @@ TEST_F(ReportComparisonTest, SamePolicyInTwoRunsIsAWarning) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("warning: policy noop is in " + dir_ + "/short and in " + dir_ + "/again"),
             std::string::npos) << r.output;
+}
+
+TEST_F(ReportComparisonTest, ByTaskAsCsvAndJson) {
+  const auto md = run_hribench("report --by task " + dir_ + "/short");
+  ASSERT_EQ(md.exit_code, 0) << md.output;
+  EXPECT_NE(md.output.find("| Run | Task | Policy |"), std::string::npos) << md.output;
+  EXPECT_NE(md.output.find("| " + dir_ + "/short | I1 point_pick | noop |"), std::string::npos) << md.output;
+  const auto csv = run_hribench("report --by task --format csv " + dir_ + "/short");
+  ASSERT_EQ(csv.exit_code, 0) << csv.output;
+  EXPECT_EQ(csv.output.rfind("run,level,group,task_id,policy,episodes,csr,csr_low,csr_high,", 0), 0u) << csv.output;
+  EXPECT_NE(csv.output.find("\n" + dir_ + "/short,task,point_pick,I1,noop,1,0,"), std::string::npos) << csv.output;
+  const auto json = run_hribench("report --format json " + dir_ + "/short");
+  ASSERT_EQ(json.exit_code, 0) << json.output;
+  const nlohmann::json rows = nlohmann::json::parse(json.output);
+  ASSERT_EQ(rows.size(), 2u);  // instructor + overall
+  EXPECT_EQ(rows[0]["level"], "role");
+  EXPECT_EQ(rows[1]["group"], "overall");
+  EXPECT_EQ(rows[1]["csr"]["n"], 1);
+  const auto bad = run_hribench("report --format xlsx " + dir_ + "/short");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(count_lines(bad.output), 1) << bad.output;
+  EXPECT_NE(bad.output.find("--format: expected md, csv or json, got 'xlsx'"), std::string::npos) << bad.output;
 }
 
 }  // namespace

@@ -103,12 +103,40 @@ TEST(Summarize, GroupsRatesAndSafety) {
   EXPECT_DOUBLE_EQ(*roles[1].safety, (0.5 + 0.75 + 0.5) / 3);
   EXPECT_EQ(roles[1].failures.at("timeout"), 1);
   const std::vector<GroupSummary> tasks = summarize(results, GroupBy::kTask);
-  EXPECT_EQ(tasks[0].group, "intrusion_yield");  // tasks by name
+  EXPECT_EQ(tasks[0].group, "point_pick");  // tasks by role, then (without ids) by name
+  EXPECT_EQ(tasks[1].group, "stop_go");
+  EXPECT_EQ(tasks[2].group, "intrusion_yield");
   const std::vector<GroupSummary> overall = summarize(results, GroupBy::kOverall);
   ASSERT_EQ(overall.size(), 2u);
   EXPECT_EQ(overall[0].episodes, 4);
   // Deterministic: the same input gives the same intervals.
   EXPECT_EQ(summarize(results, GroupBy::kOverall)[0].ct->low, overall[0].ct->low);
+}
+
+TEST(Summarize, TasksInTheOrderOfTheTaskListWithTheirIds) {
+  // docs/tasks.md lists I1..I5, C1..C4, X1..X4: by role, then id (I10 after I2).
+  const auto with_id = [](EpisodeResult r, const std::string& id) {
+    r.task_id = id;
+    return r;
+  };
+  std::vector<EpisodeResult> results{
+      with_id(episode("intrusion_yield", "intruder", "noop", true, 10, 0.5), "X1"),
+      with_id(episode("handover_h2r", "collaborator", "noop", true, 10, 0.5), "C1"),
+      with_id(episode("zeta", "instructor", "noop", true, 10, 0.5), "I10"),
+      with_id(episode("stop_go", "instructor", "noop", false, 30, 1.0), "I4"),
+      episode("my_task", "instructor", "noop", true, 10, 0.5),
+  };
+  results[1].metrics.critical_contact = true;
+  const std::vector<GroupSummary> tasks = summarize(results, GroupBy::kTask);
+  ASSERT_EQ(tasks.size(), 5u);
+  std::vector<std::string> labels;
+  for (const GroupSummary& s : tasks) labels.push_back(group_label(s));
+  EXPECT_EQ(labels, (std::vector<std::string>{"I4 stop_go", "I10 zeta", "my_task", "C1 handover_h2r",
+                                              "X1 intrusion_yield"}));
+  EXPECT_EQ(tasks[3].critical_contacts, 1);
+  EXPECT_EQ(tasks[0].critical_contacts, 0);
+  // Role groups carry no task id.
+  for (const GroupSummary& s : summarize(results, GroupBy::kRole)) EXPECT_EQ(group_label(s), s.group);
 }
 
 }  // namespace

@@ -31,6 +31,8 @@ RunResults sample_run() {
     log.role = i < 2 ? "instructor" : "intruder";
     log.seed = static_cast<uint64_t>(100 + i);
     run.episodes.push_back(make_result(log, compute_metrics(contract, log)));
+    run.episodes.back().task_id = i < 2 ? "I4" : "X1";
+    run.episodes.back().variant = i == 1 ? "late_stop" : "";
   }
   return run;
 }
@@ -93,13 +95,57 @@ TEST(Report, SummaryTables) {
   EXPECT_NE(md.find("| overall | noop | 0.50 ["), std::string::npos);
   EXPECT_NE(md.find("| IR↓ | CFR↑ | HCS↑ | CIR↑ | DSR↑ |"), std::string::npos);
   EXPECT_NE(md.find("| Task | Policy |"), std::string::npos);
+  EXPECT_NE(md.find("| I4 stop_go | noop | 0.50 ["), std::string::npos) << md;
+  // The README's per-task table: CSR per policy, critical contacts, main failure labels.
+  EXPECT_NE(md.find("| Task | noop | critical contacts (noop) | main failure labels (noop) |"), std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| I4 stop_go | 0.50 | 0 | timeout 1 |"), std::string::npos) << md;
+  EXPECT_LT(md.find("| I4 stop_go | 0.50 |"), md.find("| X1 intrusion_yield | 0.50 |"));
+  // The terminal's summary leaves the constants table to the file.
+  const std::string terminal = summary_markdown(sample_run(), SummaryFor::kTerminal);
+  EXPECT_EQ(terminal.find("| still_sustain |"), std::string::npos);
+  EXPECT_EQ(md.rfind(terminal, 0), 0u);
   EXPECT_NE(md.find("| episodes | no_response | timeout |"), std::string::npos);  // priority order
   EXPECT_NE(md.find("| still_sustain | 0.2 | s |"), std::string::npos);
   const std::string csv = summary_csv(sample_run());
   // Header + 2 roles + 2 tasks + overall.
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 6);
-  EXPECT_EQ(csv.rfind("level,group,policy,episodes,csr,csr_low,csr_high,ct,", 0), 0u);
-  EXPECT_NE(csv.find("\noverall,overall,noop,4,0.5,"), std::string::npos);
+  EXPECT_EQ(csv.rfind("level,group,task_id,policy,episodes,csr,csr_low,csr_high,ct,", 0), 0u);
+  EXPECT_NE(csv.find("\noverall,overall,,noop,4,0.5,"), std::string::npos);
+  EXPECT_NE(csv.find("\ntask,stop_go,I4,noop,2,0.5,"), std::string::npos) << csv;
+}
+
+TEST(Report, ResultsHoldVariantsTaskIdsAndAggregates) {
+  const RunResults run = sample_run();
+  const nlohmann::json j = results_to_json(run);
+  EXPECT_EQ(j["episodes"][1]["variant"], "late_stop");
+  EXPECT_EQ(j["episodes"][1]["task_id"], "I4");
+  EXPECT_EQ(j["episodes"][0]["cues"][0]["premature"], false);
+  const nlohmann::json& tasks = j["aggregates"]["task"];
+  ASSERT_EQ(tasks.size(), 2u);
+  EXPECT_EQ(tasks[0]["group"], "stop_go");
+  EXPECT_EQ(tasks[0]["task_id"], "I4");
+  EXPECT_EQ(tasks[0]["episodes"], 2);
+  EXPECT_EQ(tasks[0]["csr"]["value"], 0.5);
+  EXPECT_EQ(tasks[0]["csr"]["n"], 2);
+  EXPECT_EQ(tasks[0]["failures"]["timeout"], 1);
+  EXPECT_EQ(tasks[0]["critical_contacts"], 0);
+  EXPECT_TRUE(tasks[0]["tsync"].is_null());
+  EXPECT_EQ(j["aggregates"]["role"].size(), 2u);
+  EXPECT_EQ(j["aggregates"]["overall"][0]["episodes"], 4);
+  // Read back (aggregates are derived, not read), variant and task id survive; results
+  // written before them read as empty.
+  const RunResults back = results_from_json(j, "r");
+  EXPECT_EQ(back.episodes[1].variant, "late_stop");
+  EXPECT_EQ(back.episodes[1].task_id, "I4");
+  nlohmann::json old = j["episodes"][1];
+  old.erase("variant");
+  old.erase("task_id");
+  old["cues"][0].erase("premature");
+  const EpisodeResult e = episode_from_json(old, "e");
+  EXPECT_EQ(e.variant, "");
+  EXPECT_EQ(e.task_id, "");
+  EXPECT_FALSE(e.metrics.cues[0].premature);
 }
 
 TEST(Report, CompareRuns) {
@@ -112,6 +158,18 @@ TEST(Report, CompareRuns) {
   EXPECT_NE(md.find("Note: run runs/B used different metric constants than run runs/A."),
             std::string::npos);
   EXPECT_EQ(compare_markdown({{"A", a}, {"A2", a}}).find("Note:"), std::string::npos);
+  // By task, and as CSV / JSON with every interval.
+  EXPECT_NE(compare_markdown({{"A", a}}, CompareBy::kTask).find("| A | X1 intrusion_yield | noop |"),
+            std::string::npos);
+  const std::string csv = compare_csv({{"A", a}, {"B", b}}, CompareBy::kTask);
+  EXPECT_EQ(csv.rfind("run,level,group,task_id,policy,episodes,csr,", 0), 0u);
+  EXPECT_NE(csv.find("\nB,task,intrusion_yield,X1,noop,2,"), std::string::npos) << csv;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);  // header + 2 runs x 2 tasks
+  const nlohmann::json rows = compare_json({{"A", a}}, CompareBy::kRole);
+  ASSERT_EQ(rows.size(), 3u);  // 2 roles + overall
+  EXPECT_EQ(rows[2]["level"], "overall");
+  EXPECT_EQ(rows[0]["run"], "A");
+  EXPECT_EQ(rows[0]["csr"]["n"], 2);
 }
 
 TEST(Report, WriteAndLoadRun) {
