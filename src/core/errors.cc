@@ -1,5 +1,6 @@
 #include "core/errors.h"
 
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <utility>
@@ -34,13 +35,20 @@ std::string_view to_string(EpisodeStatus status) {
   return "unknown";
 }
 
+namespace {
+std::atomic<bool> check_failure_throws{false};
+}  // namespace
+
+void set_check_failure_throws(bool throws) { check_failure_throws.store(throws); }
+
 namespace internal {
 
 CheckFailure::CheckFailure(const char* file, int line, const char* condition) {
   stream_ << file << ":" << line << ": check failed: " << condition << " ";
 }
 
-CheckFailure::~CheckFailure() {
+CheckFailure::~CheckFailure() noexcept(false) {
+  if (check_failure_throws.load()) throw CheckError(stream_.str());
   std::fprintf(stderr, "%s\n", stream_.str().c_str());
   std::fflush(stderr);
   std::abort();

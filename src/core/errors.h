@@ -2,7 +2,8 @@
 // The three tiers of trouble in HRIBench (docs/design.md), all in this one header.
 //
 // 1. Programmer bug: HRIB_CHECK(cond) << "context"; — always on (also in release builds),
-//    prints file:line, the failed condition and the context, then aborts.
+//    prints file:line, the failed condition and the context, then aborts — or, in a process
+//    that asked for it (the Python module, docs/python.md), throws CheckError instead.
 // 2. Bad user input (YAML, motion file, CLI flag, a malformed reply from a remote policy):
 //    throw InputError{where, expected, got}. `where` is file:line:col or a key path. The CLI
 //    turns it into one line and a non-zero exit; nothing written before is lost.
@@ -43,12 +44,23 @@ enum class EpisodeStatus {
 };
 std::string_view to_string(EpisodeStatus status);
 
+// Tier 1 in a host that must not die (the Python module): what a failed check throws when
+// set_check_failure_throws(true). what() is the message a failed check prints.
+class CheckError : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+// Process-wide: false (the default) prints and aborts; true throws CheckError. A check that
+// fails inside a noexcept function still ends the process (std::terminate).
+void set_check_failure_throws(bool throws);
+
 namespace internal {
-// Collects the context streamed into a failed check, then aborts in its destructor.
+// Collects the context streamed into a failed check, then aborts (or throws CheckError) in its
+// destructor.
 class CheckFailure {
  public:
   CheckFailure(const char* file, int line, const char* condition);
-  [[noreturn]] ~CheckFailure();
+  [[noreturn]] ~CheckFailure() noexcept(false);
   CheckFailure(const CheckFailure&) = delete;
   CheckFailure& operator=(const CheckFailure&) = delete;
   template <typename T>

@@ -197,6 +197,8 @@ class Episode {
   const sim::Data& data() const { return *data_; }
   // The sampled spec (null for an episode of a bare driver).
   const std::shared_ptr<const script::EpisodeSpec>& spec() const { return spec_; }
+  // The contract the metrics score against (null for an episode of a bare driver).
+  const ScenarioContract* contract() const { return contract_.get(); }
 
   // Observers, called in the order added (non-owning).
   void add_observer(EpisodeObserver& observer);

@@ -906,6 +906,19 @@ class Validator {
       event(c.from, path + ".from");
       event(c.to, path + ".to");
     }
+    // Reward weights are magnitudes: each term's sign is its meaning (docs/python.md).
+    if (s_.reward) {
+      const RewardWeights& w = *s_.reward;
+      for (const auto& [key, value] : {std::pair<const char*, double>{"progress", w.progress},
+                                       {"success", w.success},
+                                       {"premature_motion", w.premature_motion},
+                                       {"separation", w.separation},
+                                       {"contact", w.contact}}) {
+        if (!(std::isfinite(value) && value >= 0)) {
+          problem(std::string("reward.") + key, "a weight >= 0", fmt(value));
+        }
+      }
+    }
     // A violation bound is a time within the episode (0: none tolerated).
     if (const std::optional<double>& bound = s_.safety.max_violation;
         bound && !(*bound >= 0 && *bound <= s_.horizon)) {

@@ -209,6 +209,7 @@ EpisodeSpec sample(const Scenario& scenario, uint64_t seed) {
   spec.success = variant != nullptr && !variant->success.empty() ? variant->success : scenario.success;
   resolve(spec.success, root.split("success"), vars);
   spec.safety = scenario.safety;
+  spec.reward = scenario.reward;
   resolve(spec.safety, root.split("safety"), vars);
   spec.instruction = fill_instruction(scenario.instruction, spec, vars);
   return spec;

@@ -334,6 +334,27 @@ struct Safety {
   bool operator==(const Safety&) const = default;
 };
 
+// Weights of the dense training reward (docs/python.md "Rewards"; eval/reward.h computes it).
+// A script may override any of them in its optional `reward` section; the metrics remain the
+// benchmark's score.
+struct RewardWeights {
+  static constexpr const char* kSchemaName = "reward";
+  double progress = 1.0;          // per m the tool comes closer to the current robot act's goal
+  double success = 10.0;          // once, when the success predicates first hold
+  double premature_motion = 1.0;  // per m the tool moves while its act awaits a go cue
+  double separation = 1.0;        // per s of separation violation (HCS's rule)
+  double contact = 1.0;           // per s of unpermitted human contact, times the region's grade
+  template <class V>
+  void visit(V& v) {
+    v.opt("progress", progress, "reward per m the tool comes closer to the current robot act's goal (default 1)");
+    v.opt("success", success, "bonus when the success predicates first hold (default 10)");
+    v.opt("premature_motion", premature_motion, "penalty per m the tool moves while its act awaits a go cue (default 1)");
+    v.opt("separation", separation, "penalty per s of separation violation, HCS's rule (default 1)");
+    v.opt("contact", contact, "penalty per s of unpermitted human contact, times the body region's grade (default 1)");
+  }
+  bool operator==(const RewardWeights&) const = default;
+};
+
 struct Scenario {
   static constexpr const char* kSchemaName = "script";
   std::string file;  // where it was read from (not a key)
@@ -352,6 +373,7 @@ struct Scenario {
   Named<Act> acts;
   std::vector<Pred> success;
   Safety safety;
+  std::optional<RewardWeights> reward;  // absent: the default weights
   template <class V>
   void visit(V& v) {
     v.req("hribench", hribench, "schema version: 1");
@@ -367,6 +389,7 @@ struct Scenario {
     v.req("acts", acts, "the interaction acts, human and robot");
     v.req("success", success, "predicates that must all hold at the end");
     v.opt("safety", safety, "safety exceptions");
+    v.opt("reward", reward, "weights of the dense training reward (docs/python.md); the metrics still score");
   }
 };
 
@@ -387,6 +410,7 @@ struct EpisodeSpec {
   Named<Act> acts;      // base acts then the variant's
   std::vector<Pred> success;
   Safety safety;
+  std::optional<RewardWeights> reward;  // the script's; absent (and not in the JSON): defaults
   template <class V>
   void visit(V& v) {
     v.req("hribench", hribench, "schema version: 1");
@@ -402,6 +426,7 @@ struct EpisodeSpec {
     v.req("acts", acts, "acts, all values drawn");
     v.req("success", success, "success predicates, vars substituted");
     v.req("safety", safety, "safety exceptions");
+    v.opt("reward", reward, "the script's reward weights, if it has a reward section");
   }
   bool operator==(const EpisodeSpec&) const = default;
 };

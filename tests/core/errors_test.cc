@@ -1,5 +1,6 @@
 #include "core/errors.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 namespace hribench::core {
@@ -27,6 +28,22 @@ TEST(EpisodeStatusTest, NamesMatchResultFiles) {
 TEST(CheckDeathTest, FailedCheckAbortsWithFileLineAndContext) {
   const int n = -3;
   EXPECT_DEATH(HRIB_CHECK(n > 0) << "n=" << n, "errors_test.cc:[0-9]+: check failed: n > 0 n=-3");
+}
+
+// The Python module's mode (docs/python.md): a failed check throws CheckError with the text it
+// would print; switched back, checks abort again.
+TEST(CheckDeathTest, FailedCheckThrowsWhenAsked) {
+  const int n = -3;
+  set_check_failure_throws(true);
+  try {
+    HRIB_CHECK(n > 0) << "n=" << n;
+    set_check_failure_throws(false);
+    FAIL() << "no exception";
+  } catch (const CheckError& e) {
+    set_check_failure_throws(false);
+    EXPECT_THAT(e.what(), ::testing::MatchesRegex(".*errors_test.cc:[0-9]+: check failed: n > 0 n=-3"));
+  }
+  EXPECT_DEATH(HRIB_CHECK(n > 0), "check failed: n > 0");
 }
 
 TEST(CheckTest, PassingCheckDoesNothing) {

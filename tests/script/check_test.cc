@@ -172,6 +172,34 @@ TEST(CheckTest, ConstraintGraph) {
   EXPECT_NE(all(p3).find("lid.open never comes after lid.close"), std::string::npos);
 }
 
+// The optional reward section (docs/python.md): weights >= 0, known keys only; sampled into the
+// episode, and absent from a spec's JSON (its hash) when the script has none.
+TEST(CheckTest, RewardSection) {
+  const std::string take = "  take:\n    actor: robot\n    goal: grasped(robot, cube)\n";
+  const std::string plain = script_with_acts(take);
+  const std::string weighted = plain + "reward:\n  success: 20\n  contact: 0\n";
+  EXPECT_TRUE(check_text(weighted, "t.yaml").empty()) << all(check_text(weighted, "t.yaml"));
+  std::vector<core::InputError> errors;
+  const EpisodeSpec spec = sample(parse_scenario(weighted, "t.yaml", errors), 3);
+  ASSERT_TRUE(spec.reward.has_value());
+  EXPECT_EQ(spec.reward->success, 20.0);
+  EXPECT_EQ(spec.reward->contact, 0.0);
+  EXPECT_EQ(spec.reward->progress, 1.0);  // the default
+  EXPECT_NE(spec_to_text(spec).find("\"reward\""), std::string::npos);
+  EXPECT_EQ(spec_from_text(spec_to_text(spec), "spec").reward, spec.reward);
+  const EpisodeSpec without = sample(parse_scenario(plain, "t.yaml", errors), 3);
+  EXPECT_FALSE(without.reward.has_value());
+  EXPECT_EQ(spec_to_text(without).find("\"reward\""), std::string::npos);
+
+  const auto negative = check_text(plain + "reward:\n  progress: -1\n", "t.yaml");
+  ASSERT_EQ(negative.size(), 1U) << all(negative);
+  EXPECT_NE(negative[0].text().find("reward.progress: expected a weight >= 0, got -1"), std::string::npos)
+      << all(negative);
+  const auto unknown = check_text(plain + "reward:\n  speed: 1\n", "t.yaml");
+  ASSERT_EQ(unknown.size(), 1U) << all(unknown);
+  EXPECT_NE(unknown[0].text().find("reward.speed"), std::string::npos) << all(unknown);
+}
+
 // A variant's acts exist only in its episodes: top-level acts and other variants cannot use them.
 TEST(CheckTest, VariantActsAreVisibleOnlyInTheirVariant) {
   const std::string text =

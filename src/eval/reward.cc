@@ -1,0 +1,134 @@
+#include "eval/reward.h"
+
+#include <algorithm>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "core/errors.h"
+#include "eval/metrics.h"
+
+namespace hribench::eval {
+namespace {
+
+// When `name` happened by time `t` (the log's events so far; "episode.start": the first
+// step); nullopt: not yet.
+std::optional<double> happened_by(const EpisodeLog& log, std::string_view name, double t,
+                                  const MetricConstants& c) {
+  if (name == "episode.start") return log.steps.front().time;
+  for (const Event& e : log.events) {
+    if (e.time > t + c.time_epsilon) break;
+    if (e.name == name) return e.time;
+  }
+  return std::nullopt;
+}
+
+// Inside [from, to] as far as the log knows at time t (to not yet happened: still inside).
+bool inside(const EpisodeLog& log, const EventInterval& interval, double t, const MetricConstants& c) {
+  const std::optional<double> from = happened_by(log, interval.from, t, c);
+  if (!from || *from > t + c.time_epsilon) return false;
+  if (interval.to.empty()) return true;
+  const std::optional<double> to = happened_by(log, interval.to, t, c);
+  return !to || t <= *to + c.time_epsilon;
+}
+
+// The current robot act at time t: the first whose end has not happened (null: all ended).
+const RobotActContract* current_act(const ScenarioContract& contract, const EpisodeLog& log, double t,
+                                    const MetricConstants& c) {
+  for (const RobotActContract& act : contract.robot_acts) {
+    if (!happened_by(log, act.name + ".end", t, c)) return &act;
+  }
+  return nullptr;
+}
+
+bool permitted(const ScenarioContract& contract, const EpisodeLog& log, const Contact& contact,
+               double t, const MetricConstants& c) {
+  for (const PermittedContact& p : contract.permitted_contacts) {
+    if (p.fingers_only && !contact.robot_finger) continue;
+    if (!p.human_parts.empty() &&
+        std::find(p.human_parts.begin(), p.human_parts.end(), contact.other) == p.human_parts.end()) {
+      continue;
+    }
+    if (inside(log, p.phase, t, c)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+double contact_grade(human::BodyRegion region) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (int r = 0; r < human::kNumBodyRegions; ++r) {
+    lowest = std::min(lowest, human::quasi_static_force_limit(static_cast<human::BodyRegion>(r)));
+  }
+  return lowest / human::quasi_static_force_limit(region);
+}
+
+RewardTerms dense_reward(const ScenarioContract& contract, const EpisodeLog& log, size_t k,
+                         const script::RewardWeights& w, const MetricConstants& c) {
+  HRIB_CHECK(k >= 1 && k < log.steps.size()) << "step " << k << " of " << log.steps.size();
+  const StepRecord& s = log.steps[k];
+  const StepRecord& prev = log.steps[k - 1];
+  const double dt = s.time - prev.time;
+  RewardTerms r;
+
+  if (const RobotActContract* act = current_act(contract, log, s.time, c); act && act->goal_W) {
+    const double before = (prev.X_WT.translation - *act->goal_W).norm();
+    const double after = (s.X_WT.translation - *act->goal_W).norm();
+    r.progress = w.progress * (before - after);
+  }
+
+  if (const std::optional<size_t> i = log.predicate_index(contract.success_predicate)) {
+    const auto holds = [&](size_t step) { return log.steps[step].predicates[*i] != 0; };
+    bool before = false;
+    for (size_t j = 0; j < k && !before; ++j) before = holds(j);
+    if (holds(k) && !before) r.success = w.success;
+  }
+
+  const RobotActContract* act_before = current_act(contract, log, prev.time, c);
+  for (const CueContract& cue : contract.cues) {
+    if (cue.kind != CueKind::kGo) continue;
+    if (!cue.answered_by.empty() && (!act_before || act_before->name != cue.answered_by)) continue;
+    const std::string& allowed = cue.motion_allowed_from.empty() ? cue.event : cue.motion_allowed_from;
+    if (!happened_by(log, allowed, prev.time, c)) {
+      r.premature_motion = -w.premature_motion * (s.X_WT.translation - prev.X_WT.translation).norm();
+      break;
+    }
+  }
+
+  if (s.separation <= c.monitored_distance) {
+    bool in_permitted_phase = false;
+    for (const PermittedContact& p : contract.permitted_contacts) {
+      in_permitted_phase = in_permitted_phase || inside(log, p.phase, s.time, c);
+    }
+    const bool violation =
+        in_permitted_phase
+            ? s.closest_point_speed > c.permitted_speed && s.separation < c.permitted_distance
+            : s.separation < protective_separation(s.approach_speed, s.separation, c);
+    if (violation) r.separation = -w.separation * dt;
+  }
+
+  for (const Contact& contact : s.contacts) {
+    if (contact.other_kind != ContactOther::kHuman || !(contact.normal_force > 0)) continue;
+    if (permitted(contract, log, contact, s.time, c)) continue;
+    r.contact -= w.contact * dt * contact_grade(*contact.region);
+  }
+  return r;
+}
+
+RewardTerms dense_return(const ScenarioContract& contract, const EpisodeLog& log,
+                         const script::RewardWeights& weights, const MetricConstants& constants) {
+  RewardTerms sum;
+  for (size_t k = 1; k < log.steps.size(); ++k) {
+    const RewardTerms r = dense_reward(contract, log, k, weights, constants);
+    sum.progress += r.progress;
+    sum.success += r.success;
+    sum.premature_motion += r.premature_motion;
+    sum.separation += r.separation;
+    sum.contact += r.contact;
+  }
+  return sum;
+}
+
+}  // namespace hribench::eval

@@ -1,0 +1,230 @@
+#include "eval/run.h"
+
+#include <cctype>
+#include <chrono>
+#include <exception>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <utility>
+
+#include "core/errors.h"
+#include "core/files.h"
+#include "eval/metrics.h"
+#include "eval/parallel.h"
+#include "eval/task_episode.h"
+#include "script/sample.h"
+
+namespace hribench::eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Job {
+  const script::EpisodeSpec* spec = nullptr;
+  std::string task_id;  // docs/tasks.md's id of the task ("" for a script outside tasks/)
+  std::string hash;
+  std::string policy;
+  std::string key;
+};
+
+// The policies of one worker thread: one instance per reference for the whole run.
+using WorkerPolicies = std::map<std::string, std::unique_ptr<policy::Policy>>;
+
+// The log file of an episode: DIR/logs/TASK__POLICY__SEED__HASH.hlog, with characters a file
+// name should not hold in a policy reference (openpi://host:8000) replaced by '_'.
+fs::path log_path(const fs::path& dir, const Job& job) {
+  std::string name = job.spec->task + "__" + job.policy + "__" + std::to_string(job.spec->seed) +
+                     "__" + job.hash.substr(0, 12) + ".hlog";
+  for (char& c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
+  }
+  return dir / "logs" / name;
+}
+
+// One episode; trouble (a scene the model cannot build, any exception) -> invalid with reason.
+EpisodeResult run_one(const Job& job, const RunOptions& base, WorkerPolicies& policies,
+                      const PolicyMaker& make, const std::optional<fs::path>& log_file) {
+  const script::EpisodeSpec& spec = *job.spec;
+  try {
+    std::unique_ptr<policy::Policy>& policy = policies[job.policy];
+    if (!policy) policy = make(job.policy);
+    const EpisodeSetup setup{spec.task, spec.role, job.hash, spec.seed, spec.instruction, job.policy};
+    std::optional<LogFileWriter> writer;
+    std::vector<EpisodeObserver*> observers;
+    if (log_file) observers.push_back(&writer.emplace(*log_file));
+    const ScoredEpisode scored = run_task_episode(spec, *policy, setup, base, observers);
+    EpisodeResult result = make_result(scored.log, scored.metrics);
+    result.task_id = job.task_id;
+    result.variant = spec.variant;
+    return result;
+  } catch (const std::exception& e) {
+    EpisodeResult result;
+    result.task = spec.task;
+    result.task_id = job.task_id;
+    result.variant = spec.variant;
+    result.role = spec.role;
+    result.policy = job.policy;
+    result.spec_hash = job.hash;
+    result.seed = spec.seed;
+    result.status = core::EpisodeStatus::kInvalid;
+    result.status_reason = e.what();
+    result.metrics.labels = {FailureLabel::kInvalid};
+    result.metrics.primary_label = FailureLabel::kInvalid;
+    return result;
+  }
+}
+
+nlohmann::json read_json(const fs::path& path) {
+  std::ifstream in(path);
+  nlohmann::json json;
+  try {
+    in >> json;
+  } catch (const std::exception&) {
+    throw core::InputError::Message(path.string(), "not valid JSON");
+  }
+  return json;
+}
+
+// The options of `recorded` that `asked` sets otherwise: "episodes: 2 in the run, 3 asked".
+std::vector<std::string> option_differences(const nlohmann::json& recorded, const nlohmann::json& asked) {
+  std::vector<std::string> differences;
+  std::set<std::string> keys;
+  for (const auto& [key, value] : recorded.items()) keys.insert(key);
+  for (const auto& [key, value] : asked.items()) keys.insert(key);
+  for (const std::string& key : keys) {
+    const std::string was = recorded.contains(key) ? recorded.at(key).dump() : "(not set)";
+    const std::string now = asked.contains(key) ? asked.at(key).dump() : "(not set)";
+    if (was != now) differences.push_back(key + ": " + was + " in the run, " + now + " asked");
+  }
+  return differences;
+}
+
+// A run with the same options but more --episodes (the same first seed): the asked run extends
+// the recorded one with the next seeds.
+bool extends(const nlohmann::json& recorded, const nlohmann::json& asked) {
+  if (!recorded.contains("episodes") || !asked.contains("episodes")) return false;
+  nlohmann::json recorded_rest = recorded;
+  nlohmann::json asked_rest = asked;
+  recorded_rest.erase("episodes");
+  asked_rest.erase("episodes");
+  return recorded_rest == asked_rest && recorded.at("episodes").is_number_integer() &&
+         asked.at("episodes").get<int>() >= recorded.at("episodes").get<int>();
+}
+
+// Refuses a file, an episode pool, or a folder holding another run unless resume (same
+// options, or more episodes) or force; returns the episodes already finished (rewriting the
+// episode file without a torn last line).
+std::vector<EpisodeResult> prepare_out(const RunSettings& s, const nlohmann::json& options) {
+  const fs::path& dir = s.out;
+  const std::string out = dir.string();
+  const fs::path options_file = dir / "options.json";
+  const fs::path lines_file = dir / "episodes.jsonl";
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+    throw core::InputError("--out", "a folder for the run", "'" + out + "', a file");
+  }
+  if (fs::exists(dir / "manifest.json", ec)) {
+    throw core::InputError("--out", "a folder for the run",
+                           "'" + out + "', which holds an episode pool (manifest.json); choose another folder");
+  }
+  std::vector<EpisodeResult> finished;
+  const bool has_run = fs::exists(options_file) || fs::exists(lines_file) ||
+                       fs::exists(dir / "results.json");
+  if (has_run && s.force) {
+    for (const char* name : {"options.json", "episodes.jsonl", "results.json", "summary.md",
+                             "summary.csv"}) {
+      fs::remove(dir / name);
+    }
+    fs::remove_all(dir / "logs");
+  } else if (has_run && !s.resume) {
+    throw core::InputError::Message(
+        "--out", out + " already holds a run; use --resume to continue it or --force to replace it");
+  } else if (has_run) {
+    if (!fs::exists(options_file)) {
+      throw core::InputError::Message("--resume", out + " holds no options.json; use --force to replace the run");
+    }
+    const nlohmann::json recorded = read_json(options_file);
+    if (recorded != options && !extends(recorded, options)) {
+      std::string list;
+      for (const std::string& d : option_differences(recorded, options)) list += (list.empty() ? "" : "; ") + d;
+      throw core::InputError::Message(
+          "--resume", out + " holds a run with other options (" + list + "); use --force to replace it");
+    }
+    if (fs::exists(lines_file)) finished = load_episode_lines(lines_file);
+    fs::remove(lines_file);
+    for (const EpisodeResult& r : finished) append_episode_line(lines_file, r);
+  }
+  fs::create_directories(dir);
+  core::write_file_atomically(options_file, options.dump(2) + "\n");
+  return finished;
+}
+
+}  // namespace
+
+RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const PolicyMaker& make,
+                    const std::function<void(const RunProgress&)>& progress) {
+  const std::vector<EpisodeResult> finished = prepare_out(settings, plan.options);
+  std::map<std::string, EpisodeResult> by_key;
+  for (const EpisodeResult& r : finished) by_key.emplace(episode_key(r), r);
+
+  // Jobs in (task, policy, episode) order (a shard's: every N-th); those already finished are
+  // skipped.
+  std::vector<Job> all_jobs;
+  std::vector<size_t> todo;
+  size_t job_number = 0;
+  for (const std::vector<script::EpisodeSpec>& specs : plan.by_task) {
+    for (const std::string& p : plan.policies) {
+      for (const script::EpisodeSpec& spec : specs) {
+        const size_t number = job_number++;
+        if (plan.shard && !plan.shard->owns(number)) continue;
+        Job job;
+        job.spec = &spec;
+        const auto id = plan.task_ids.find(spec.task);
+        job.task_id = id == plan.task_ids.end() ? "" : id->second;
+        job.hash = script::spec_hash(spec);
+        job.policy = p;
+        job.key = episode_key(spec.task, p, job.hash, spec.seed);
+        if (by_key.count(job.key) == 0) todo.push_back(all_jobs.size());
+        all_jobs.push_back(std::move(job));
+      }
+    }
+  }
+
+  // Run, appending each episode as it finishes.
+  const fs::path lines_file = settings.out / "episodes.jsonl";
+  if (settings.save_logs) fs::create_directories(settings.out / "logs");
+  std::vector<WorkerPolicies> worker_policies(static_cast<size_t>(settings.threads));
+  const auto start = std::chrono::steady_clock::now();
+  size_t done = 0;
+  const std::vector<EpisodeResult> results = run_jobs(
+      todo.size(), settings.threads,
+      [&](size_t job, int worker) {
+        const Job& j = all_jobs[todo[job]];
+        const std::optional<fs::path> log_file =
+            settings.save_logs ? std::optional<fs::path>(log_path(settings.out, j)) : std::nullopt;
+        return run_one(j, settings.run_options, worker_policies[static_cast<size_t>(worker)], make,
+                       log_file);
+      },
+      [&](size_t, const EpisodeResult& result) {
+        append_episode_line(lines_file, result);
+        ++done;
+        if (!progress) return;
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0;
+        const double eta = rate > 0 ? static_cast<double>(todo.size() - done) / rate : 0;
+        progress({done + finished.size(), all_jobs.size(), finished.size(), rate, eta});
+      });
+  for (size_t i = 0; i < todo.size(); ++i) by_key.insert_or_assign(all_jobs[todo[i]].key, results[i]);
+
+  // Results in job order whatever the completion order or resume history.
+  RunResults run;
+  run.info = current_run_info("none", plan.options, settings.run_options.constants);
+  for (const Job& job : all_jobs) run.episodes.push_back(by_key.at(job.key));
+  write_run(settings.out, run);
+  return run;
+}
+
+}  // namespace hribench::eval
