@@ -51,8 +51,9 @@ def test_a_python_noop_equals_the_cli_noop(tmp_path, run_cli):
 
 
 def test_one_and_two_threads_give_identical_results(tmp_path):
-    hribench.evaluate(Noop(), tasks=TASKS, out=tmp_path / "t1", threads=1, **FLAGS)
-    hribench.evaluate(Noop(), tasks=TASKS, out=tmp_path / "t2", threads=2, **FLAGS)
+    flags = dict(FLAGS, episodes=1)  # two jobs, one per task
+    hribench.evaluate(Noop(), tasks=TASKS, out=tmp_path / "t1", threads=1, **flags)
+    hribench.evaluate(Noop(), tasks=TASKS, out=tmp_path / "t2", threads=2, **flags)
     assert episodes_of(tmp_path / "t1") == episodes_of(tmp_path / "t2")
 
 
