@@ -48,6 +48,7 @@ class HRIBenchEnv(_EnvBase):
     """
 
     metadata = {"render_modes": []}
+    render_mode = None
 
     def __init__(self, spec, *, cameras=(), state_track=False, action_space="ee_delta",
                  reward="sparse", horizon=None, policy_name="python", task=None):
@@ -105,7 +106,9 @@ class HRIBenchEnv(_EnvBase):
     def reset(self, *, seed=None, options=None):
         """Starts the episode; returns (observation, info). seed: with an env of make(task,
         seed), re-samples the task with this seed (another episode); else it must be the
-        episode's own seed."""
+        episode's own seed. options: unused (Gymnasium's signature)."""
+        if _EnvBase is not object:  # pragma: no cover - Gymnasium seeds its np_random
+            super().reset(seed=seed)
         if seed is not None and seed != self.spec.seed:
             if self._task is None:
                 raise ValueError(f"seed: expected this pool episode's seed {self.spec.seed}, got {seed}")

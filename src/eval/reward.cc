@@ -86,14 +86,18 @@ RewardTerms dense_reward(const ScenarioContract& contract, const EpisodeLog& log
     if (holds(k) && !before) r.success = w.success;
   }
 
-  const RobotActContract* act_before = current_act(contract, log, prev.time, c);
-  for (const CueContract& cue : contract.cues) {
-    if (cue.kind != CueKind::kGo) continue;
-    if (!cue.answered_by.empty() && (!act_before || act_before->name != cue.answered_by)) continue;
-    const std::string& allowed = cue.motion_allowed_from.empty() ? cue.event : cue.motion_allowed_from;
-    if (!happened_by(log, allowed, prev.time, c)) {
+  // Premature: the current act answers go cues and none of them has allowed motion yet.
+  if (const RobotActContract* act = current_act(contract, log, prev.time, c)) {
+    bool answers = false;
+    bool allowed = false;
+    for (const CueContract& cue : contract.cues) {
+      if (cue.kind != CueKind::kGo || cue.answered_by != act->name) continue;
+      answers = true;
+      const std::string& from = cue.motion_allowed_from.empty() ? cue.event : cue.motion_allowed_from;
+      allowed = allowed || happened_by(log, from, prev.time, c).has_value();
+    }
+    if (answers && !allowed) {
       r.premature_motion = -w.premature_motion * (s.X_WT.translation - prev.X_WT.translation).norm();
-      break;
     }
   }
 

@@ -9,8 +9,8 @@
 //                     of the current robot act, the first of the contract's robot acts whose
 //                     "ACT.end" event has not happened by t_k (acts without a goal: 0);
 //   success           +w once, at the first step at which the success predicate holds;
-//   premature_motion  -w * |tool displacement| (m) while the current act answers a go cue
-//                     whose motion is not allowed yet (CueContract::motion_allowed_from, else
+//   premature_motion  -w * |tool displacement| (m) while the current act answers go cues and
+//                     none of them allows motion yet (CueContract::motion_allowed_from, else
 //                     the cue's event, has not happened by t_{k-1});
 //   separation        -w * dt while the separation is a violation by HCS's rule (docs/metrics.md:
 //                     closer than the protective distance, or inside a permitted contact phase

@@ -47,7 +47,8 @@ TEST(DenseReward, ProgressIsTheCurrentActsDistanceGained) {
   script::RewardWeights w;
   w.progress = 3;
   EXPECT_NEAR(at(c, b.log(), 1.5, w).progress, 0.15, kTol);
-  EXPECT_NEAR(dense_return(reach_then_place(), b.log(), kDefault, kConstants).progress, 0.95, kTol);
+  // 19 steps of 5 cm toward reach's goal, then the last one away from place's.
+  EXPECT_NEAR(dense_return(reach_then_place(), b.log(), kDefault, kConstants).progress, 0.90, kTol);
   // No goal: no progress term.
   ScenarioContract no_goal;
   no_goal.robot_acts = {{"wave", std::nullopt}};
@@ -73,6 +74,12 @@ TEST(DenseReward, MotionBeforeTheGoCueIsPenalised) {
   EXPECT_NEAR(at(c, b.log(), 1.0).premature_motion, -0.01, kTol);  // 1 cm in the step
   EXPECT_NEAR(at(c, b.log(), 2.0).premature_motion, -0.01, kTol);  // the cue comes at the step's end
   EXPECT_EQ(at(c, b.log(), 2.05).premature_motion, 0.0);           // cue given: allowed
+  // A second go cue for the same act (after a stop): the first one already allowed motion.
+  c.cues.push_back({"go2", "go2.stroke", CueKind::kGo, 1.0, core::Vec3(1.4, 0, 1.0), "reach", ""});
+  b.event(3.0, "go2.stroke");
+  EXPECT_EQ(at(c, b.log(), 2.5).premature_motion, 0.0);
+  EXPECT_NEAR(at(c, b.log(), 1.0).premature_motion, -0.01, kTol);
+  c.cues.pop_back();
   // Motion allowed from another event; another act answering the cue: no penalty.
   c.cues[0].motion_allowed_from = "episode.start";
   EXPECT_EQ(at(c, b.log(), 1.0).premature_motion, 0.0);
@@ -124,8 +131,11 @@ TEST(DenseReward, StepZeroHasNoReward) {
   EXPECT_DEATH(dense_reward(ScenarioContract{}, b.log(), 0, kDefault, kConstants), "check failed");
 }
 
-// The dense return ranks the ladder (docs/python.md): oracle > reactive > blind on each
-// (task, seed) listed — a subset of tasks and seeds, for the suite's time budget.
+// The dense return ranks the ladder (docs/python.md "Rewards"): oracle > reactive > blind on
+// I1 and C1 seed 0, where the three behave differently in what the terms measure. Not on every
+// task: where reactive and blind act alike (X1) their logs, hence returns, are equal, and in C3
+// the oracle's stepping aside for the partner costs it more separation time than reactive
+// (docs/python.md lists the seed-0 returns of every task).
 double dense_return_of(const std::string& task_file, uint64_t seed, const std::string& policy_ref) {
   const script::EpisodeSpec spec = script::sample(script::load_scenario(task_file), seed);
   std::unique_ptr<policy::Policy> policy = policy::make_policy(policy_ref);
@@ -157,9 +167,8 @@ TEST_P(DenseLadder, OracleAboveReactiveAboveBlind) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Tasks, DenseLadder,
-                         ::testing::Values(LadderCase{"tasks/I4_stop_go.yaml", 1},
-                                           LadderCase{"tasks/C1_handover_h2r.yaml", 0},
-                                           LadderCase{"tasks/X1_intrusion_yield.yaml", 0}));
+                         ::testing::Values(LadderCase{"tasks/I1_point_pick.yaml", 0},
+                                           LadderCase{"tasks/C1_handover_h2r.yaml", 0}));
 
 }  // namespace
 }  // namespace hribench::eval

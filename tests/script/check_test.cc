@@ -193,7 +193,7 @@ TEST(CheckTest, RewardSection) {
 
   const auto negative = check_text(plain + "reward:\n  progress: -1\n", "t.yaml");
   ASSERT_EQ(negative.size(), 1U) << all(negative);
-  EXPECT_NE(negative[0].text().find("reward.progress: expected a weight >= 0, got -1"), std::string::npos)
+  EXPECT_NE(negative[0].text().find("(reward.progress): expected a weight >= 0, got -1"), std::string::npos)
       << all(negative);
   const auto unknown = check_text(plain + "reward:\n  speed: 1\n", "t.yaml");
   ASSERT_EQ(unknown.size(), 1U) << all(unknown);
