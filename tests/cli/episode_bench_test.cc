@@ -76,7 +76,12 @@ TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
                                             "--seeds: expected a positive number of episodes per task, got 0"},
         {"bench --episodes --repeats 0", "--repeats: expected a positive number of runs per episode, got 0"},
         {"bench --episodes --horizon -2", "--horizon: expected a positive number of seconds, got -2"},
-        {"bench --episodes --policies nope", "policy: expected one of blind, noop, oracle, random, reactive, got 'nope'"}}) {
+        {"bench --episodes --policies nope", "policy: expected one of blind, noop, oracle, random, reactive, got 'nope'"},
+        {"bench --episodes --tasks I1 --horizon 0.1 --policies 'noop?cameras=wrist:64'",
+         "policy noop: cameras: expected NAME:WIDTHxHEIGHT joined by '+' (e.g. agentview:224x224+wrist:224x224), "
+         "sides in [1, 4096], got 'wrist:64'"},
+        {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --policies 'noop?cameras=nope:32x32'",
+         "policy noop?cameras=nope:32x32 camera: expected one of agentview, wrist, got 'nope'"}}) {
     const auto r = run_hribench(args);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
     EXPECT_EQ(count_lines(r.output), 1) << r.output;
