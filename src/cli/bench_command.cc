@@ -436,6 +436,11 @@ HRIB_REGISTER_COMMAND(
       app.add_option("--repeats", episodes->repeats, "--episodes: runs of each episode")
           ->capture_default_str();
       app.add_option("--horizon", episodes->horizon, "--episodes: seconds (default: the script's)");
+      app.add_option("--physics", episodes->physics,
+                     "--episodes: physics candidates to measure (implicit, euler, iterations=N, "
+                     "tolerance=X; '+' combines)")
+          ->delimiter(',')
+          ->capture_default_str();
       return [options, episodes, episode_mode] {
         if (!*episode_mode) return run_bench(*options);
         episodes->json = options->json;

@@ -12,6 +12,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include <fmt/format.h>
@@ -23,6 +24,8 @@
 #include "core/paths.h"
 #include "core/version.h"
 #include "eval/episode.h"
+#include "eval/episode_log.h"
+#include "eval/metrics.h"
 #include "eval/runner.h"
 #include "eval/script_driver.h"
 #include "gen/pool.h"
@@ -127,6 +130,42 @@ double run_raw(const mjModel* m, mjData* raw, const Replay& r) {
   return seconds_since(start);
 }
 
+// ---- Physics candidates (measured only; the benchmark's physics is the scene as built). ----
+
+// Applies candidate `name` (see the header) to a built model's mjModel.
+void apply_physics(const std::string& name, model::Model& model) {
+  mjModel* m = model.mj.get();
+  std::string rest = name;
+  while (!rest.empty()) {
+    const size_t plus = rest.find('+');
+    const std::string part = rest.substr(0, plus);
+    rest = plus == std::string::npos ? "" : rest.substr(plus + 1);
+    const size_t eq = part.find('=');
+    const std::string key = part.substr(0, eq);
+    const std::string value = eq == std::string::npos ? "" : part.substr(eq + 1);
+    char* end = nullptr;
+    const double number = std::strtod(value.c_str(), &end);
+    const bool numeric = !value.empty() && end == value.c_str() + value.size() && number > 0;
+    if (part == "implicit") {
+      m->opt.integrator = mjINT_IMPLICIT;
+    } else if (part == "euler") {
+      m->opt.integrator = mjINT_EULER;
+      for (const int a : model.arm_actuator) {
+        const int joint = m->actuator_trnid[2 * a];
+        m->dof_damping[m->jnt_dofadr[joint]] -= m->actuator_biasprm[a * mjNBIAS + 2];
+        m->actuator_biasprm[a * mjNBIAS + 2] = 0;
+      }
+    } else if (key == "iterations" && numeric && number == std::floor(number) && number <= 1000) {
+      m->opt.iterations = static_cast<int>(number);
+    } else if (key == "tolerance" && numeric) {
+      m->opt.tolerance = number;
+    } else {
+      throw core::InputError("--physics", "implicit, euler, iterations=N, tolerance=X, joined by '+'",
+                             "'" + part + "'");
+    }
+  }
+}
+
 // ---- One measured episode. ----
 
 struct EpisodeFigures {
@@ -140,6 +179,8 @@ struct EpisodeFigures {
   int nconmax = 0, njmax = 0, nstack = 0;
   std::string status;
   bool success = false;
+  std::string label;     // primary failure label
+  bool differs = false;  // outcome or log differs from the first physics candidate's
 };
 
 struct Runner {
@@ -154,7 +195,7 @@ struct Runner {
 // Runs one episode as `hribench eval` does; returns its figures and (when asked) its model
 // and log for the raw replay.
 EpisodeFigures run_one(const script::EpisodeSpec& spec, const std::string& ref, Runner& runner,
-                       const eval::RunOptions& options, bool measure_memory,
+                       const eval::RunOptions& options, const std::string& physics, bool measure_memory,
                        std::shared_ptr<const model::Model>* model_out = nullptr,
                        eval::EpisodeLog* log_out = nullptr) {
   policy::Policy& policy = runner.policy(ref);
@@ -162,7 +203,9 @@ EpisodeFigures run_one(const script::EpisodeSpec& spec, const std::string& ref, 
   const bool peak_known = measure_memory && reset_peak_rss();
   const long rss_before = measure_memory ? rss_kib() : 0;
   const Clock::time_point start = Clock::now();
-  auto model = std::make_shared<const model::Model>(model::build(eval::scene_spec_from_episode(spec)));
+  model::Model built = model::build(eval::scene_spec_from_episode(spec));
+  if (physics != "implicit") apply_physics(physics, built);
+  auto model = std::make_shared<const model::Model>(std::move(built));
   eval::Episode episode(spec, policy.spec(), eval::setup_of(spec, ref), options, model);
   f.setup_seconds = seconds_since(start);
   const eval::EpisodeLog& log = eval::run_episode(episode, policy);
@@ -181,6 +224,7 @@ EpisodeFigures run_one(const script::EpisodeSpec& spec, const std::string& ref, 
   f.nstack = m.nstack;
   f.status = std::string(core::to_string(log.status));
   f.success = metrics.success;
+  f.label = metrics.primary_label ? std::string(eval::to_string(*metrics.primary_label)) : "";
   if (model_out) *model_out = model;
   if (log_out) *log_out = log;
   return f;
@@ -189,6 +233,7 @@ EpisodeFigures run_one(const script::EpisodeSpec& spec, const std::string& ref, 
 struct TaskRow {
   std::string task;
   std::string policy;
+  std::string physics;
   std::vector<EpisodeFigures> episodes;
 };
 
@@ -225,7 +270,7 @@ ScalingRow run_scaling(const std::vector<script::EpisodeSpec>& specs,
     pool.emplace_back([&, t] {
       for (size_t j = next++; j < jobs.size(); j = next++) {
         try {
-          run_one(*jobs[j].spec, *jobs[j].ref, runners[static_cast<size_t>(t)], options, false);
+          run_one(*jobs[j].spec, *jobs[j].ref, runners[static_cast<size_t>(t)], options, "implicit", false);
         } catch (const std::exception& e) {
           std::lock_guard lock(error_mutex);
           if (error.empty()) error = e.what();
@@ -273,28 +318,42 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
   eval::RunOptions options;
   options.horizon = o.horizon;
 
-  // Per task and policy: episode, raw, episode, raw, ... (one worker, this thread).
+  // Per task, policy and physics: episode, raw, episode, raw, ... (one worker, this thread).
+  if (o.physics.empty()) throw core::InputError("--physics", "a list of physics candidates", "none");
   std::vector<TaskRow> rows;
-  std::map<std::pair<std::string, std::string>, size_t> row_of;  // (task, policy) -> row
+  std::map<std::tuple<std::string, std::string, std::string>, size_t> row_of;  // -> rows
   Runner runner;
   for (const std::string& ref : refs) runner.policy(ref);
   for (const script::EpisodeSpec& spec : specs) {
     for (const std::string& ref : refs) {
-      const auto key = std::make_pair(spec.task, ref);
-      if (row_of.count(key) == 0) {
-        row_of[key] = rows.size();
-        rows.push_back({spec.task, ref, {}});
-      }
-      TaskRow& row = rows[row_of[key]];
-      for (int r = 0; r < o.repeats; ++r) {
-        std::shared_ptr<const model::Model> model;
-        eval::EpisodeLog log;
-        EpisodeFigures f = run_one(spec, ref, runner, options, true, &model, &log);
-        const Replay replay = make_replay(*model, log, static_cast<int>(f.physics_steps / std::max(1L, f.control_steps)));
-        mjData* raw = mj_makeData(model->m());
-        f.raw_seconds = run_raw(model->m(), raw, replay);
-        mj_deleteData(raw);
-        row.episodes.push_back(f);
+      std::vector<eval::EpisodeLog> first_logs;  // of the first candidate, per repeat
+      std::vector<EpisodeFigures> first_figures;
+      for (const std::string& physics : o.physics) {
+        const auto key = std::make_tuple(spec.task, ref, physics);
+        if (row_of.count(key) == 0) {
+          row_of[key] = rows.size();
+          rows.push_back({spec.task, ref, physics, {}});
+        }
+        TaskRow& row = rows[row_of[key]];
+        for (int r = 0; r < o.repeats; ++r) {
+          std::shared_ptr<const model::Model> model;
+          eval::EpisodeLog log;
+          EpisodeFigures f = run_one(spec, ref, runner, options, physics, true, &model, &log);
+          const Replay replay = make_replay(*model, log, static_cast<int>(f.physics_steps / std::max(1L, f.control_steps)));
+          mjData* raw = mj_makeData(model->m());
+          f.raw_seconds = run_raw(model->m(), raw, replay);
+          mj_deleteData(raw);
+          const size_t k = static_cast<size_t>(r);
+          if (physics == o.physics.front()) {
+            first_logs.push_back(std::move(log));
+            first_figures.push_back(f);
+          } else {
+            const EpisodeFigures& a = first_figures.at(k);
+            f.differs = a.success != f.success || a.status != f.status || a.label != f.label ||
+                        !eval::identical(first_logs.at(k), log);
+          }
+          row.episodes.push_back(f);
+        }
       }
     }
   }
@@ -308,16 +367,16 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
   std::printf("HRIBench %s, MuJoCo %s; real task episodes (%d seed%s x %d repeat%s), one worker\n",
               std::string(core::version()).c_str(), mj_versionString(), o.seeds, o.seeds == 1 ? "" : "s",
               o.repeats, o.repeats == 1 ? "" : "s");
-  std::printf("%-22s %-24s %9s %9s %10s %11s %11s %8s %8s %9s %11s %11s\n", "task", "policy", "s/episode",
+  std::printf("%-22s %-24s %-14s %9s %9s %10s %11s %11s %8s %8s %9s %11s %11s %5s %6s\n", "task", "policy", "physics", "s/episode",
               "setup s", "control/s", "physics/s", "raw phys/s", "cost/raw", "run/raw", "peak MB",
-              "efc/njmax", "con/nconmax");
+              "efc/njmax", "con/nconmax", "succ", "differ");
   nlohmann::json json_rows = nlohmann::json::array();
   for (const TaskRow& row : rows) {
     double seconds = 0, setup = 0, raw = 0;
     long control = 0, physics = 0, peak = 0;
     int efc = 0, con = 0, stack = 0;
     std::vector<double> ratios, run_ratios;
-    int successes = 0;
+    int successes = 0, differ = 0;
     for (const EpisodeFigures& f : row.episodes) {
       seconds += f.seconds;
       setup += f.setup_seconds;
@@ -331,17 +390,20 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
       ratios.push_back(f.seconds / f.raw_seconds);
       run_ratios.push_back((f.seconds - f.setup_seconds) / f.raw_seconds);
       successes += f.success ? 1 : 0;
+      differ += f.differs ? 1 : 0;
     }
     const double n = static_cast<double>(row.episodes.size());
     const EpisodeFigures& first = row.episodes.front();
-    std::printf("%-22s %-24s %9.3f %9.3f %10.0f %11.0f %11.0f %8.3f %8.3f %9.1f %5d/%-5d %5d/%-5d\n",
-                row.task.c_str(), row.policy.c_str(), seconds / n, setup / n, control / seconds,
+    std::printf("%-22s %-24s %-14s %9.3f %9.3f %10.0f %11.0f %11.0f %8.3f %8.3f %9.1f %5d/%-5d %5d/%-5d %5d %6d\n",
+                row.task.c_str(), row.policy.c_str(), row.physics.c_str(), seconds / n, setup / n, control / seconds,
                 physics / seconds, physics / raw, median(ratios), median(run_ratios), peak / 1024.0,
-                efc, first.njmax, con, first.nconmax);
+                efc, first.njmax, con, first.nconmax, successes, differ);
     json_rows.push_back({{"task", row.task},
                          {"policy", row.policy},
                          {"episodes", row.episodes.size()},
+                         {"physics", row.physics},
                          {"successes", successes},
+                         {"differ_from_first_physics", differ},
                          {"seconds_per_episode", seconds / n},
                          {"setup_seconds_per_episode", setup / n},
                          {"control_steps_per_second", control / seconds},
@@ -358,7 +420,8 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
                          {"maxuse_stack", stack},
                          {"nstack", first.nstack}});
   }
-  std::printf("(cost/raw: episode wall time / raw mj_step on the same model and steps, median over "
+  std::printf("(differ: episodes whose outcome or log differs from the first --physics candidate's; "
+              "cost/raw: episode wall time / raw mj_step on the same model and steps, median over "
               "episodes; run/raw: the same without the setup; peak MB: resident memory one episode adds)\n");
   for (const ScalingRow& s : scaling) {
     std::printf("%d thread%s: %d episodes in %.2f s, %.3f episodes/s, peak %.1f MB per worker\n", s.threads,

@@ -11,6 +11,15 @@
 // use (peak contacts, constraint rows and stack against the model's capacity). With --threads
 // N > 1 it also runs the whole set of episodes on 1 and on N threads (episodes per second,
 // peak memory per worker). Wall-clock figures are measurements, never results.
+//
+// --physics A,B,... measures physics candidates (a row per task, policy and candidate) without
+// changing the benchmark's physics: each candidate is applied to the episode's compiled model
+// (the episode and its raw replay both run on it), and the rows of the later candidates count
+// the episodes whose outcome (success, status, primary label) or log differs from the first
+// candidate's. Candidates: implicit (the scene as built), euler (Euler integrator with the arm
+// servos' damping kv moved from the actuators' bias to the joints' damping, which Euler
+// integrates implicitly), iterations=N (solver iterations), tolerance=X (solver tolerance);
+// joined by '+' they combine (euler+iterations=20).
 
 #include <string>
 #include <vector>
@@ -26,6 +35,7 @@ struct EpisodeBenchOptions {
   double horizon = -1;                 // s; -1: each script's own horizon
   int threads = 0;                     // > 1: the scaling rows (0: all cores)
   std::string json;                    // also write the figures as JSON to this file
+  std::vector<std::string> physics = {"implicit"};  // physics candidates (see above)
 };
 
 // Runs the benchmark, prints its table, writes the JSON; returns the exit code. Throws

@@ -70,6 +70,20 @@ TEST(EpisodeBenchTest, RowPerTaskAndPolicyWithRatiosAndArenaUse) {
   }
 }
 
+TEST(EpisodeBenchTest, PhysicsCandidatesAreRowsComparedWithTheFirst) {
+  // A candidate equal to the scene as built (50 solver iterations) gives the same episode
+  // (differ 0); Euler changes the physics, so its log differs from the implicit integrator's.
+  const nlohmann::json j = run_episode_bench_json(
+      "--tasks I1 --policies noop --horizon 0.3 --threads 1 --physics implicit,iterations=50,euler+iterations=20");
+  ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
+  ASSERT_EQ(j["tasks"].size(), 3u);
+  EXPECT_EQ(j["tasks"][0]["physics"], "implicit");
+  EXPECT_EQ(j["tasks"][1]["physics"], "iterations=50");
+  EXPECT_EQ(j["tasks"][1]["differ_from_first_physics"], 0);
+  EXPECT_EQ(j["tasks"][2]["physics"], "euler+iterations=20");
+  EXPECT_EQ(j["tasks"][2]["differ_from_first_physics"], 1);
+}
+
 TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
   for (const auto& [args, message] :
        {std::pair<std::string, std::string>{"bench --episodes --seeds 0",
@@ -77,6 +91,8 @@ TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
         {"bench --episodes --repeats 0", "--repeats: expected a positive number of runs per episode, got 0"},
         {"bench --episodes --horizon -2", "--horizon: expected a positive number of seconds, got -2"},
         {"bench --episodes --policies nope", "policy: expected one of blind, noop, oracle, random, reactive, got 'nope'"},
+        {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics rk4",
+         "--physics: expected implicit, euler, iterations=N, tolerance=X, joined by '+', got 'rk4'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --policies 'noop?cameras=wrist:64'",
          "policy noop: cameras: expected NAME:WIDTHxHEIGHT joined by '+' (e.g. agentview:224x224+wrist:224x224), "
          "sides in [1, 4096], got 'wrist:64'"},
