@@ -7,6 +7,8 @@
 //   render:  our Renderer::render vs raw mjv_updateScene + mjr_render + mjr_readPixels on the
 //            same mjrContext and mjvScene, per camera at 128x128 and 224x224.
 // Wall-clock figures are measurements, never results: nothing else reads them.
+// `hribench bench --episodes [--tasks L] [--policies L] [--seeds N] [--repeats R] ...`: real
+// task episodes instead (cli/episode_bench.h).
 
 #include <algorithm>
 #include <barrier>
@@ -24,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/command.h"
+#include "cli/episode_bench.h"
 #include "core/errors.h"
 #include "core/math.h"
 #include "core/version.h"
@@ -418,7 +421,32 @@ HRIB_REGISTER_COMMAND(
           ->capture_default_str();
       app.add_option("--backend", options->backend, "osmesa, egl or none (no render rows)")
           ->capture_default_str();
-      return [options] { return run_bench(*options); };
+      auto episodes = std::make_shared<EpisodeBenchOptions>();
+      auto episode_mode = std::make_shared<bool>(false);
+      app.add_flag("--episodes", *episode_mode,
+                   "real task episodes (noop and oracle by default) against raw mj_step instead");
+      app.add_option("--tasks", episodes->tasks, "--episodes: task ids or names, or all")
+          ->capture_default_str();
+      app.add_option("--policies", episodes->policies, "--episodes: comma-separated policies")
+          ->delimiter(',')
+          ->capture_default_str();
+      app.add_option("--seeds", episodes->seeds, "--episodes: episodes per task (seeds from --seed)")
+          ->capture_default_str();
+      app.add_option("--seed", episodes->seed, "--episodes: first seed")->capture_default_str();
+      app.add_option("--repeats", episodes->repeats, "--episodes: runs of each episode")
+          ->capture_default_str();
+      app.add_option("--horizon", episodes->horizon, "--episodes: seconds (default: the script's)");
+      app.add_option("--physics", episodes->physics,
+                     "--episodes: physics candidates to measure (implicit, euler, iterations=N, "
+                     "tolerance=X; '+' combines)")
+          ->delimiter(',')
+          ->capture_default_str();
+      return [options, episodes, episode_mode] {
+        if (!*episode_mode) return run_bench(*options);
+        episodes->json = options->json;
+        episodes->threads = options->threads;
+        return run_episode_bench(*episodes);
+      };
     });
 
 }  // namespace

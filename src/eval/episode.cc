@@ -129,10 +129,12 @@ core::Pose body_pose(const mjData& d, int body) {
 
 }  // namespace
 
-// Everything an episode rebuilds rather than copies: one renderer per requested camera (made
-// for this episode's model) and the contact scratch.
+// Everything an episode rebuilds rather than copies: the renderers of the requested cameras
+// (made for this episode's model; one per image size, shared by the cameras of that size) and
+// the contact scratch.
 struct Episode::Scratch {
   std::vector<std::unique_ptr<render::Renderer>> renderers;
+  std::vector<size_t> renderer_of;  // per requested camera: index into renderers
   std::vector<int> camera_ids;
   std::vector<sim::Contact> contacts;
   std::vector<ContactPair> pairs;
@@ -217,8 +219,15 @@ void Episode::init() {
   for (const policy::CameraRequest& request : policy_.cameras) {
     scratch_->camera_ids.push_back(
         render::camera_id(*model_->m(), request.name, "policy " + setup_.policy + " camera"));
-    scratch_->renderers.push_back(
-        render::make_renderer(options_.render_backend, *model_->m(), request.width, request.height));
+    const auto& renderers = scratch_->renderers;
+    const auto same_size = std::find_if(renderers.begin(), renderers.end(), [&](const auto& r) {
+      return r->width() == request.width && r->height() == request.height;
+    });
+    scratch_->renderer_of.push_back(static_cast<size_t>(same_size - renderers.begin()));
+    if (same_size == renderers.end()) {
+      scratch_->renderers.push_back(
+          render::make_renderer(options_.render_backend, *model_->m(), request.width, request.height));
+    }
   }
 }
 
@@ -430,11 +439,11 @@ policy::Observation Episode::observe() {
               [](const policy::ObjectPose& a, const policy::ObjectPose& b) { return a.name < b.name; });
     obs.state = std::move(state);
   }
-  for (size_t i = 0; i < scratch_->renderers.size(); ++i) {
+  for (size_t i = 0; i < scratch_->camera_ids.size(); ++i) {
     policy::Image image;
     image.camera = policy_.cameras[i].name;
     render::Image rgb;
-    scratch_->renderers[i]->render(*model_, *data_, scratch_->camera_ids[i], rgb);
+    scratch_->renderers[scratch_->renderer_of[i]]->render(*model_, *data_, scratch_->camera_ids[i], rgb);
     image.width = rgb.width;
     image.height = rgb.height;
     image.pixels = std::move(rgb.rgb);

@@ -402,7 +402,7 @@ Generated generate(const SceneSpec& spec) {
       R"(<mujoco model="hribench">
 <compiler angle="radian" autolimits="true"/>
 <option timestep="{timestep}" integrator="implicit" cone="elliptic" impratio="10" tolerance="1e-8" iterations="50"/>
-<size njmax="3000" nconmax="600"/>
+<size njmax="{njmax}" nconmax="{nconmax}"/>
 <visual>
   <headlight ambient="0.35 0.35 0.35" diffuse="0.35 0.35 0.35" specular="0 0 0"/>
   <global offwidth="1280" offheight="960"/>
@@ -432,7 +432,8 @@ Generated generate(const SceneSpec& spec) {
 </keyframe>
 </mujoco>
 )",
-      fmt::arg("timestep", mjcf::num(kTimestep)), fmt::arg("static_bit", mjcf::kBitStatic),
+      fmt::arg("timestep", mjcf::num(kTimestep)), fmt::arg("njmax", kMaxConstraintRows),
+      fmt::arg("nconmax", kMaxContacts), fmt::arg("static_bit", mjcf::kBitStatic),
       fmt::arg("static_aff", static_aff), fmt::arg("object_bit", mjcf::kBitObject),
       fmt::arg("object_aff", object_aff), fmt::arg("human_bit", mjcf::kBitHuman),
       fmt::arg("human_aff", human_aff), fmt::arg("defaults", defaults), fmt::arg("world", world),

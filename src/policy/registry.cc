@@ -21,25 +21,31 @@ constexpr uint64_t kMaxChunk = 100000;  // actions per chunk a built-in policy m
 std::map<std::string, PolicyEntry> make_builtins() {
   std::map<std::string, PolicyEntry> entries;
   entries["noop"] = PolicyEntry{
-      "noop", "holds the robot still (options: space=ee_delta|joint_pos)", [](PolicyRef ref) {
+      "noop",
+      "holds the robot still (options: space=ee_delta|joint_pos, cameras=NAME:WxH+NAME:WxH)",
+      [](PolicyRef ref) {
         const ActionSpace space = action_space_from_string(
             take_option(ref, "space", "ee_delta"), "policy noop: space");
+        std::vector<CameraRequest> cameras =
+            parse_camera_requests(take_option(ref, "cameras", ""), "policy noop: cameras");
         reject_unknown_options(ref);
-        return std::unique_ptr<Policy>(new NoopPolicy(space));
+        return std::unique_ptr<Policy>(new NoopPolicy(space, std::move(cameras)));
       }};
   entries["random"] = PolicyEntry{
       "random",
       "uniform random actions (options: seed=INT, scale=(0,1], chunk=INT, "
-      "space=ee_delta|joint_pos)",
+      "space=ee_delta|joint_pos, cameras=NAME:WxH+NAME:WxH)",
       [](PolicyRef ref) {
         const ActionSpace space = action_space_from_string(
             take_option(ref, "space", "ee_delta"), "policy random: space");
         const uint64_t seed = take_integer_option(ref, "seed", 0, 0, UINT64_MAX);
         const double scale = take_option(ref, "scale", 1.0);
         const uint64_t chunk = take_integer_option(ref, "chunk", 1, 1, kMaxChunk);
+        std::vector<CameraRequest> cameras =
+            parse_camera_requests(take_option(ref, "cameras", ""), "policy random: cameras");
         reject_unknown_options(ref);
         return std::unique_ptr<Policy>(new RandomPolicy(space, seed, scale, ActionLimits{},
-                                                        static_cast<int>(chunk)));
+                                                        static_cast<int>(chunk), std::move(cameras)));
       }};
   // The privileged expert and its scripted baselines (policy/oracle.h).
   const auto expert = [&entries](Competence competence, const char* help) {

@@ -337,6 +337,12 @@ std::unique_ptr<GlContext> make_gl_context(Backend backend) {
   return context;
 }
 
+std::shared_ptr<GlContext> thread_gl_context(Backend backend) {
+  thread_local std::shared_ptr<GlContext> context;
+  if (!context || context->backend() != backend) context = make_gl_context(backend);
+  return context;
+}
+
 Backend loaded_gl_platform() {
   std::lock_guard<std::mutex> lock(platform_mutex);
   return platform;

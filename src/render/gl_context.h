@@ -52,6 +52,13 @@ class GlContext {
 // no display/device/context can be made, or this process already loaded the other platform.
 std::unique_ptr<GlContext> make_gl_context(Backend backend);
 
+// The calling thread's context of `backend`: made (make_gl_context) on the thread's first call
+// and kept until the thread ends, so that renderers made one after another on a worker thread
+// (one per episode) share one context and llvmpipe's compiled shaders instead of making and
+// compiling their own (docs/rendering.md). Every renderer sharing it must be used on this
+// thread only. Throws as make_gl_context.
+std::shared_ptr<GlContext> thread_gl_context(Backend backend);
+
 // The GL platform this process has loaded (kNone while no GL context was ever made).
 Backend loaded_gl_platform();
 

@@ -79,7 +79,8 @@ Renderer::Renderer(Backend backend, const mjModel& m, int width, int height,
     gl_renderer_ = "none";
     return;
   }
-  gl_ = make_gl_context(backend);
+  gl_ = thread_gl_context(backend);
+  gl_->make_current();
   gl_renderer_ = gl_->gl_renderer();
 
   // The context is made from a shallow copy of the model whose visual settings size the
@@ -129,11 +130,15 @@ Renderer::~Renderer() {
 }
 
 void Renderer::make_current() {
-  if (gl_ != nullptr) gl_->make_current();
+  if (gl_ == nullptr) return;
+  gl_->make_current();
+  mjr_setBuffer(mjFB_OFFSCREEN, &context_);
 }
 
 void Renderer::draw(const mjModel& m, const mjData& d, const mjvCamera& camera) {
   gl_->make_current();
+  // Other renderers of this thread's context bind their own offscreen buffers.
+  mjr_setBuffer(mjFB_OFFSCREEN, &context_);
   camera_ = camera;
   // mjv_updateScene takes mjData* but only reads it (it could set a warning; see capacity).
   mjv_updateScene(&m, const_cast<mjData*>(&d), &option_, nullptr, &camera_, mjCAT_ALL, &scene_);

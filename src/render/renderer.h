@@ -5,10 +5,11 @@
 //   none   — never touches GL; render() returns false and leaves images empty.
 // Images only when asked: nothing is rendered unless render() is called.
 //
-// A Renderer owns one GL context, one mjrContext (offscreen buffer of exactly width x height)
-// and one mjvScene. It renders any mjModel/mjData pair whose mjModel is the one it was made
-// with (textures and meshes are uploaded once at creation). One Renderer per thread at a time:
-// render() makes its context current on the calling thread. A process uses one GL back end
+// A Renderer owns one mjrContext (offscreen buffer of exactly width x height) and one mjvScene,
+// in the GL context of the thread that makes it (thread_gl_context: one per thread, shared by
+// the renderers made on it, kept for the thread's life). It renders any mjModel/mjData pair
+// whose mjModel is the one it was made with (textures and meshes are uploaded once at
+// creation). A Renderer is used on the thread that made it. A process uses one GL back end
 // (see gl_context.h). Not copyable.
 //
 // Settings are chosen for speed on llvmpipe (docs/rendering.md has the measurements): no
@@ -91,7 +92,7 @@ class Renderer {
   int height_;
   RenderSettings settings_;
   std::string gl_renderer_;
-  std::unique_ptr<GlContext> gl_;  // null for kNone
+  std::shared_ptr<GlContext> gl_;  // the thread's (thread_gl_context); null for kNone
   mjvScene scene_{};
   mjrContext context_{};
   mjvOption option_{};

@@ -326,6 +326,32 @@ TEST_F(RunnerTest, CamerasAreRenderedAtTheRequestedSizesInRequestOrder) {
   }
 }
 
+TEST_F(RunnerTest, CamerasOfOneSizeShareARendererAndKeepTheirViews) {
+  // Two cameras of one size are drawn by one renderer (Episode), each from its own camera:
+  // the images are those of episodes that ask for each camera alone.
+  const auto seen_with = [&](std::vector<policy::CameraRequest> cameras) {
+    WatchingPolicy watcher;
+    watcher.cameras = std::move(cameras);
+    StandingHumanDriver driver;
+    RunOptions options;
+    options.horizon = 0.1;
+    run_episode(*model_, *data_, watcher, driver, setup("cam"), options);
+    return watcher.seen;
+  };
+  const auto both = seen_with({{"wrist", 24, 24}, {"agentview", 24, 24}});
+  const auto wrist = seen_with({{"wrist", 24, 24}});
+  const auto agentview = seen_with({{"agentview", 24, 24}});
+  ASSERT_EQ(both.size(), 2u);
+  ASSERT_EQ(wrist.size(), 2u);
+  ASSERT_EQ(agentview.size(), 2u);
+  for (size_t k = 0; k < both.size(); ++k) {
+    ASSERT_EQ(both[k].images.size(), 2u);
+    EXPECT_NE(both[k].images[0].pixels, both[k].images[1].pixels);
+    EXPECT_EQ(both[k].images[0].pixels, wrist[k].images[0].pixels) << k;
+    EXPECT_EQ(both[k].images[1].pixels, agentview[k].images[0].pixels) << k;
+  }
+}
+
 TEST_F(RunnerTest, CamerasTheRunnerCannotRenderAreRefused) {
   WatchingPolicy watcher;
   watcher.cameras = {{"agentview", 32, 32}};

@@ -95,5 +95,55 @@ TEST(RandomPolicy, RejectsBadOptions) {
   EXPECT_THROW(RandomPolicy(ActionSpace::kEeDelta, 1, 1.0, ActionLimits{}, 0), core::InputError);
 }
 
+TEST(CameraRequests, ParsesNamesAndSizes) {
+  EXPECT_TRUE(parse_camera_requests("", "cameras").empty());
+  const std::vector<CameraRequest> two = parse_camera_requests("agentview:224x224+wrist:128x96", "cameras");
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_EQ(two[0].name, "agentview");
+  EXPECT_EQ(two[0].width, 224);
+  EXPECT_EQ(two[0].height, 224);
+  EXPECT_EQ(two[1].name, "wrist");
+  EXPECT_EQ(two[1].width, 128);
+  EXPECT_EQ(two[1].height, 96);
+}
+
+TEST(CameraRequests, BadRequestsNameThePart) {
+  const std::string expected =
+      "policy noop: cameras: expected NAME:WIDTHxHEIGHT joined by '+' (e.g. "
+      "agentview:224x224+wrist:224x224), sides in [1, 4096], got ";
+  for (const auto& [text, part] : {std::pair<std::string, std::string>{"agentview", "'agentview'"},
+                                   {"agentview:224", "'agentview:224'"},
+                                   {":224x224", "':224x224'"},
+                                   {"agentview:0x224", "'agentview:0x224'"},
+                                   {"agentview:224x5000", "'agentview:224x5000'"},
+                                   {"agentview:22.5x224", "'agentview:22.5x224'"},
+                                   {"agentview:224x224+wrist", "'wrist'"}}) {
+    try {
+      parse_camera_requests(text, "policy noop: cameras");
+      ADD_FAILURE() << text;
+    } catch (const core::InputError& e) {
+      EXPECT_EQ(std::string(e.what()), expected + part) << text;
+    }
+  }
+  try {
+    parse_camera_requests("wrist:64x64+wrist:32x32", "policy random: cameras");
+    ADD_FAILURE();
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "policy random: cameras: expected each camera once, got 'wrist' twice");
+  }
+}
+
+TEST(CameraRequests, NoopAndRandomAskForThem) {
+  const std::vector<CameraRequest> cameras = parse_camera_requests("agentview:32x24", "cameras");
+  const PolicySpec noop = NoopPolicy(ActionSpace::kEeDelta, cameras).spec();
+  ASSERT_EQ(noop.cameras.size(), 1u);
+  EXPECT_EQ(noop.cameras[0].name, "agentview");
+  EXPECT_EQ(noop.cameras[0].width, 32);
+  EXPECT_EQ(noop.cameras[0].height, 24);
+  const PolicySpec random = RandomPolicy(ActionSpace::kEeDelta, 1, 1.0, ActionLimits{}, 1, cameras).spec();
+  ASSERT_EQ(random.cameras.size(), 1u);
+  EXPECT_EQ(random.cameras[0].name, "agentview");
+}
+
 }  // namespace
 }  // namespace hribench::policy

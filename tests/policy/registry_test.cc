@@ -50,13 +50,13 @@ TEST(Registry, BadReferencesAreInputErrors) {
     make_policy("noop?speed=2");
     FAIL();
   } catch (const core::InputError& e) {
-    EXPECT_STREQ(e.what(), "policy noop: expected one of the options space, got 'speed'");
+    EXPECT_STREQ(e.what(), "policy noop: expected one of the options space, cameras, got 'speed'");
   }
   try {
     make_policy("random?bogus=1");
     FAIL();
   } catch (const core::InputError& e) {
-    EXPECT_STREQ(e.what(), "policy random: expected one of the options space, seed, scale, chunk, got 'bogus'");
+    EXPECT_STREQ(e.what(), "policy random: expected one of the options space, seed, scale, chunk, cameras, got 'bogus'");
   }
   try {
     make_policy("oracle?bogus=1");
@@ -69,6 +69,19 @@ TEST(Registry, BadReferencesAreInputErrors) {
     FAIL();
   } catch (const core::InputError& e) {
     EXPECT_STREQ(e.what(), "policy random: seed: expected an integer in [0, 18446744073709551615], got 'x'");
+  }
+}
+
+TEST(Registry, NoopAndRandomTakeCameras) {
+  EXPECT_EQ(make_policy("noop?cameras=agentview:224x224+wrist:224x224")->spec().cameras.size(), 2u);
+  EXPECT_EQ(make_policy("random?seed=2&cameras=wrist:64x64")->spec().cameras.size(), 1u);
+  EXPECT_TRUE(make_policy("noop")->spec().cameras.empty());
+  try {
+    make_policy("random?cameras=wrist");
+    ADD_FAILURE();
+  } catch (const core::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("policy random: cameras: expected NAME:WIDTHxHEIGHT"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -272,6 +272,25 @@ TEST_F(DefaultSceneTest, ThreadsRenderWithTheirOwnRenderers) {
   EXPECT_EQ(mju_user_error, error_handler);
 }
 
+TEST_F(DefaultSceneTest, RenderersOfAThreadShareItsContextAndKeepTheirImages) {
+  // Renderers made one after another on a thread share its GL context (thread_gl_context);
+  // each binds its own offscreen buffer, so interleaved renders of two sizes give the images
+  // each gives alone, and a renderer made after another was destroyed renders the same.
+  Image alone_small, alone_large;
+  make_renderer(Backend::kOsmesa, *model_.m(), 40, 30)->render(model_, data_, model_.agentview_camera, alone_small);
+  make_renderer(Backend::kOsmesa, *model_.m(), 64, 48)->render(model_, data_, model_.wrist_camera, alone_large);
+  auto small = make_renderer(Backend::kOsmesa, *model_.m(), 40, 30);
+  auto large = make_renderer(Backend::kOsmesa, *model_.m(), 64, 48);
+  EXPECT_EQ(thread_gl_context(Backend::kOsmesa).get(), thread_gl_context(Backend::kOsmesa).get());
+  Image a, b;
+  for (int i = 0; i < 2; ++i) {
+    ASSERT_TRUE(small->render(model_, data_, model_.agentview_camera, a));
+    ASSERT_TRUE(large->render(model_, data_, model_.wrist_camera, b));
+    EXPECT_EQ(a.rgb, alone_small.rgb) << i;
+    EXPECT_EQ(b.rgb, alone_large.rgb) << i;
+  }
+}
+
 TEST_F(DefaultSceneTest, WristCameraSeesTheFingers) {
   int fingers = 0;
   for (const model::GeomTag& tag : seen_tags(model_.wrist_camera, 64, 48)) {

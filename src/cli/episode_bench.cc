@@ -1,0 +1,458 @@
+#include "cli/episode_bench.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <tuple>
+#include <vector>
+
+#include <fmt/format.h>
+#include <malloc.h>
+#include <mujoco/mujoco.h>
+#include <nlohmann/json.hpp>
+
+#include "core/errors.h"
+#include "core/paths.h"
+#include "core/version.h"
+#include "eval/episode.h"
+#include "eval/episode_log.h"
+#include "eval/metrics.h"
+#include "eval/runner.h"
+#include "eval/script_driver.h"
+#include "gen/pool.h"
+#include "model/model.h"
+#include "policy/registry.h"
+#include "script/check.h"
+#include "script/sample.h"
+#include "sim/data.h"
+
+namespace hribench::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// ---- Memory (Linux /proc): the process's resident set and its peak, in KiB. ----
+
+long status_kib(const char* key) {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  const size_t n = std::strlen(key);
+  while (std::getline(status, line)) {
+    if (line.compare(0, n, key) == 0) return std::atol(line.c_str() + n);
+  }
+  return 0;
+}
+long rss_kib() { return status_kib("VmRSS:"); }
+long peak_rss_kib() { return status_kib("VmHWM:"); }
+// Returns the heap's free memory to the system (so that the resident set counts what is in
+// use), then resets the peak (VmHWM) to the current resident set; false where the kernel
+// refuses the reset.
+bool reset_peak_rss() {
+  malloc_trim(0);
+  std::ofstream clear("/proc/self/clear_refs");
+  clear << "5";
+  clear.flush();
+  return static_cast<bool>(clear);
+}
+
+// ---- The raw replay: an episode's servo targets and human poses, for mj_step alone. ----
+
+struct Replay {
+  int substeps = 0;
+  int control_steps = 0;
+  int nu = 0;
+  int nmocap = 0;
+  std::vector<mjtNum> ctrl;        // control_steps x nu
+  std::vector<mjtNum> mocap_pos;   // control_steps x nmocap x 3
+  std::vector<mjtNum> mocap_quat;  // control_steps x nmocap x 4
+};
+
+// Interval k (step k -> k + 1) runs with the servo targets recorded at step k + 1 (the
+// targets the action of that interval set) and the human posed as at step k.
+Replay make_replay(const model::Model& model, const eval::EpisodeLog& log, int substeps) {
+  const mjModel* m = model.m();
+  Replay r;
+  r.substeps = substeps;
+  r.control_steps = static_cast<int>(log.steps.size()) - 1;
+  r.nu = m->nu;
+  r.nmocap = model.has_human ? m->nmocap : 0;
+  sim::Data poser = sim::make_data(model);
+  for (int k = 0; k < r.control_steps; ++k) {
+    const eval::StepRecord& next = log.steps[static_cast<size_t>(k + 1)];
+    std::vector<mjtNum> ctrl(poser.mj->ctrl, poser.mj->ctrl + m->nu);
+    for (size_t j = 0; j < next.joint_target.size(); ++j) ctrl[model.arm_actuator[j]] = next.joint_target[j];
+    ctrl[model.gripper_actuator] = next.gripper_target;
+    r.ctrl.insert(r.ctrl.end(), ctrl.begin(), ctrl.end());
+    if (r.nmocap == 0) continue;
+    sim::set_human_pose(model, poser, log.steps[static_cast<size_t>(k)].human_pose);
+    sim::pose_human(model, poser);
+    r.mocap_pos.insert(r.mocap_pos.end(), poser.mj->mocap_pos, poser.mj->mocap_pos + 3 * r.nmocap);
+    r.mocap_quat.insert(r.mocap_quat.end(), poser.mj->mocap_quat, poser.mj->mocap_quat + 4 * r.nmocap);
+  }
+  return r;
+}
+
+// Seconds of raw mj_step replaying `replay` from the home keyframe on `raw` (made for m).
+double run_raw(const mjModel* m, mjData* raw, const Replay& r) {
+  mj_resetDataKeyframe(m, raw, 0);
+  const size_t nu = static_cast<size_t>(r.nu);
+  const size_t np = static_cast<size_t>(3 * r.nmocap);
+  const size_t nq = static_cast<size_t>(4 * r.nmocap);
+  const Clock::time_point start = Clock::now();
+  for (size_t k = 0; k < static_cast<size_t>(r.control_steps); ++k) {
+    std::memcpy(raw->ctrl, &r.ctrl[k * nu], sizeof(mjtNum) * nu);
+    if (np > 0) {
+      std::memcpy(raw->mocap_pos, &r.mocap_pos[k * np], sizeof(mjtNum) * np);
+      std::memcpy(raw->mocap_quat, &r.mocap_quat[k * nq], sizeof(mjtNum) * nq);
+    }
+    for (int i = 0; i < r.substeps; ++i) mj_step(m, raw);
+  }
+  return seconds_since(start);
+}
+
+// ---- Physics candidates (measured only; the benchmark's physics is the scene as built). ----
+
+// Applies candidate `name` (see the header) to a built model's mjModel.
+void apply_physics(const std::string& name, model::Model& model) {
+  mjModel* m = model.mj.get();
+  std::string rest = name;
+  while (!rest.empty()) {
+    const size_t plus = rest.find('+');
+    const std::string part = rest.substr(0, plus);
+    rest = plus == std::string::npos ? "" : rest.substr(plus + 1);
+    const size_t eq = part.find('=');
+    const std::string key = part.substr(0, eq);
+    const std::string value = eq == std::string::npos ? "" : part.substr(eq + 1);
+    char* end = nullptr;
+    const double number = std::strtod(value.c_str(), &end);
+    const bool numeric = !value.empty() && end == value.c_str() + value.size() && number > 0;
+    if (part == "implicit") {
+      m->opt.integrator = mjINT_IMPLICIT;
+    } else if (part == "euler") {
+      m->opt.integrator = mjINT_EULER;
+      for (const int a : model.arm_actuator) {
+        const int joint = m->actuator_trnid[2 * a];
+        m->dof_damping[m->jnt_dofadr[joint]] -= m->actuator_biasprm[a * mjNBIAS + 2];
+        m->actuator_biasprm[a * mjNBIAS + 2] = 0;
+      }
+    } else if (key == "iterations" && numeric && number == std::floor(number) && number <= 1000) {
+      m->opt.iterations = static_cast<int>(number);
+    } else if (key == "tolerance" && numeric) {
+      m->opt.tolerance = number;
+    } else {
+      throw core::InputError("--physics", "implicit, euler, iterations=N, tolerance=X, joined by '+'",
+                             "'" + part + "'");
+    }
+  }
+}
+
+// ---- One measured episode. ----
+
+struct EpisodeFigures {
+  double setup_seconds = 0;  // model build + Episode (Data, driver, contract, renderers)
+  double seconds = 0;        // setup + run + metrics: what `hribench eval` spends on it
+  double raw_seconds = 0;    // raw mj_step for the same physics steps on the same model
+  long control_steps = 0;
+  long physics_steps = 0;
+  long peak_kib = 0;         // peak resident memory the episode added (0: unknown)
+  int maxuse_con = 0, maxuse_efc = 0, maxuse_stack = 0;
+  int nconmax = 0, njmax = 0, nstack = 0;
+  std::string status;
+  bool success = false;
+  std::string label;     // primary failure label
+  bool differs = false;  // outcome or log differs from the first physics candidate's
+};
+
+struct Runner {
+  std::map<std::string, std::unique_ptr<policy::Policy>> policies;  // one per reference
+  policy::Policy& policy(const std::string& ref) {
+    std::unique_ptr<policy::Policy>& p = policies[ref];
+    if (!p) p = policy::make_policy(ref);
+    return *p;
+  }
+};
+
+// Runs one episode as `hribench eval` does; returns its figures and (when asked) its model
+// and log for the raw replay.
+EpisodeFigures run_one(const script::EpisodeSpec& spec, const std::string& ref, Runner& runner,
+                       const eval::RunOptions& options, const std::string& physics, bool measure_memory,
+                       std::shared_ptr<const model::Model>* model_out = nullptr,
+                       eval::EpisodeLog* log_out = nullptr) {
+  policy::Policy& policy = runner.policy(ref);
+  EpisodeFigures f;
+  const bool peak_known = measure_memory && reset_peak_rss();
+  const long rss_before = measure_memory ? rss_kib() : 0;
+  const Clock::time_point start = Clock::now();
+  model::Model built = model::build(eval::scene_spec_from_episode(spec));
+  if (physics != "implicit") apply_physics(physics, built);
+  auto model = std::make_shared<const model::Model>(std::move(built));
+  eval::Episode episode(spec, policy.spec(), eval::setup_of(spec, ref), options, model);
+  f.setup_seconds = seconds_since(start);
+  const eval::EpisodeLog& log = eval::run_episode(episode, policy);
+  const eval::EpisodeMetrics metrics = episode.metrics();
+  f.seconds = seconds_since(start);
+  if (peak_known) f.peak_kib = std::max(0L, peak_rss_kib() - rss_before);
+  f.control_steps = static_cast<long>(log.steps.size()) - 1;
+  f.physics_steps = f.control_steps * static_cast<long>(std::lround(options.control_dt / model::kTimestep));
+  const mjData& d = *episode.data().mj;
+  const mjModel& m = *model->m();
+  f.maxuse_con = d.maxuse_con;
+  f.maxuse_efc = d.maxuse_efc;
+  f.maxuse_stack = d.maxuse_stack;
+  f.nconmax = m.nconmax;
+  f.njmax = m.njmax;
+  f.nstack = m.nstack;
+  f.status = std::string(core::to_string(log.status));
+  f.success = metrics.success;
+  f.label = metrics.primary_label ? std::string(eval::to_string(*metrics.primary_label)) : "";
+  if (model_out) *model_out = model;
+  if (log_out) *log_out = log;
+  return f;
+}
+
+struct TaskRow {
+  std::string task;
+  std::string policy;
+  std::string physics;
+  std::vector<EpisodeFigures> episodes;
+};
+
+struct ScalingRow {
+  int threads = 0;
+  int episodes = 0;
+  double seconds = 0;
+  long peak_kib_per_worker = 0;
+};
+
+ScalingRow run_scaling(const std::vector<script::EpisodeSpec>& specs,
+                       const std::vector<std::string>& refs, const eval::RunOptions& options,
+                       int threads) {
+  struct Job {
+    const script::EpisodeSpec* spec;
+    const std::string* ref;
+  };
+  std::vector<Job> jobs;
+  for (const script::EpisodeSpec& spec : specs) {
+    for (const std::string& ref : refs) jobs.push_back({&spec, &ref});
+  }
+  std::vector<Runner> runners(static_cast<size_t>(threads));
+  for (Runner& r : runners) {
+    for (const std::string& ref : refs) r.policy(ref);
+  }
+  std::atomic<size_t> next{0};
+  std::mutex error_mutex;
+  std::string error;
+  const bool peak_known = reset_peak_rss();
+  const long rss_before = rss_kib();
+  const Clock::time_point start = Clock::now();
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t) {
+    pool.emplace_back([&, t] {
+      for (size_t j = next++; j < jobs.size(); j = next++) {
+        try {
+          run_one(*jobs[j].spec, *jobs[j].ref, runners[static_cast<size_t>(t)], options, "implicit", false);
+        } catch (const std::exception& e) {
+          std::lock_guard lock(error_mutex);
+          if (error.empty()) error = e.what();
+        }
+      }
+    });
+  }
+  for (std::thread& thread : pool) thread.join();
+  if (!error.empty()) throw core::InputError::Message("bench --episodes", error);
+  ScalingRow row;
+  row.threads = threads;
+  row.episodes = static_cast<int>(jobs.size());
+  row.seconds = seconds_since(start);
+  if (peak_known) row.peak_kib_per_worker = std::max(0L, peak_rss_kib() - rss_before) / threads;
+  return row;
+}
+
+}  // namespace
+
+int run_episode_bench(const EpisodeBenchOptions& o) {
+  if (o.seeds < 1) throw core::InputError("--seeds", "a positive number of episodes per task", std::to_string(o.seeds));
+  if (o.repeats < 1) throw core::InputError("--repeats", "a positive number of runs per episode", std::to_string(o.repeats));
+  if (o.horizon != -1 && !(o.horizon > 0)) {
+    throw core::InputError("--horizon", "a positive number of seconds", fmt::format("{}", o.horizon));
+  }
+  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int threads = o.threads == 0 ? cores : o.threads;
+  if (threads < 1 || threads > 256) {
+    throw core::InputError("--threads", "1..256 (0: all cores)", std::to_string(o.threads));
+  }
+  const std::vector<std::string>& refs = o.policies;
+  if (refs.empty()) throw core::InputError("--policies", "a policy list", "none");
+  for (const std::string& ref : refs) policy::make_policy(ref);  // unknown -> InputError
+  std::ofstream json_file;
+  if (!o.json.empty()) {
+    json_file.open(o.json);
+    if (!json_file) throw core::InputError::Message("--json", "cannot write '" + o.json + "'");
+  }
+
+  std::vector<script::EpisodeSpec> specs;
+  for (const std::string& file : gen::resolve_task_scripts(o.tasks)) {
+    const script::Scenario scenario = script::load_scenario(core::resolve_data_path(file).string());
+    for (int i = 0; i < o.seeds; ++i) specs.push_back(script::sample(scenario, o.seed + static_cast<uint64_t>(i)));
+  }
+  eval::RunOptions options;
+  options.horizon = o.horizon;
+
+  // Per task, policy and physics: episode, raw, episode, raw, ... (one worker, this thread).
+  if (o.physics.empty()) throw core::InputError("--physics", "a list of physics candidates", "none");
+  std::vector<TaskRow> rows;
+  std::map<std::tuple<std::string, std::string, std::string>, size_t> row_of;  // -> rows
+  Runner runner;
+  for (const std::string& ref : refs) runner.policy(ref);
+  for (const script::EpisodeSpec& spec : specs) {
+    for (const std::string& ref : refs) {
+      std::vector<eval::EpisodeLog> first_logs;  // of the first candidate, per repeat
+      std::vector<EpisodeFigures> first_figures;
+      for (const std::string& physics : o.physics) {
+        const auto key = std::make_tuple(spec.task, ref, physics);
+        if (row_of.count(key) == 0) {
+          row_of[key] = rows.size();
+          rows.push_back({spec.task, ref, physics, {}});
+        }
+        TaskRow& row = rows[row_of[key]];
+        for (int r = 0; r < o.repeats; ++r) {
+          std::shared_ptr<const model::Model> model;
+          eval::EpisodeLog log;
+          EpisodeFigures f = run_one(spec, ref, runner, options, physics, true, &model, &log);
+          const Replay replay = make_replay(*model, log, static_cast<int>(f.physics_steps / std::max(1L, f.control_steps)));
+          mjData* raw = mj_makeData(model->m());
+          f.raw_seconds = run_raw(model->m(), raw, replay);
+          mj_deleteData(raw);
+          const size_t k = static_cast<size_t>(r);
+          if (physics == o.physics.front()) {
+            first_logs.push_back(std::move(log));
+            first_figures.push_back(f);
+          } else {
+            const EpisodeFigures& a = first_figures.at(k);
+            f.differs = a.success != f.success || a.status != f.status || a.label != f.label ||
+                        !eval::identical(first_logs.at(k), log);
+          }
+          row.episodes.push_back(f);
+        }
+      }
+    }
+  }
+  std::vector<ScalingRow> scaling;
+  if (threads > 1) {
+    scaling.push_back(run_scaling(specs, refs, options, 1));
+    scaling.push_back(run_scaling(specs, refs, options, threads));
+  }
+
+  // Text table.
+  std::printf("HRIBench %s, MuJoCo %s; real task episodes (%d seed%s x %d repeat%s), one worker\n",
+              std::string(core::version()).c_str(), mj_versionString(), o.seeds, o.seeds == 1 ? "" : "s",
+              o.repeats, o.repeats == 1 ? "" : "s");
+  std::printf("%-22s %-24s %-14s %9s %9s %10s %11s %11s %8s %8s %9s %11s %11s %5s %6s\n", "task", "policy", "physics", "s/episode",
+              "setup s", "control/s", "physics/s", "raw phys/s", "cost/raw", "run/raw", "peak MB",
+              "efc/njmax", "con/nconmax", "succ", "differ");
+  nlohmann::json json_rows = nlohmann::json::array();
+  for (const TaskRow& row : rows) {
+    double seconds = 0, setup = 0, raw = 0;
+    long control = 0, physics = 0, peak = 0;
+    int efc = 0, con = 0, stack = 0;
+    std::vector<double> ratios, run_ratios;
+    int successes = 0, differ = 0;
+    for (const EpisodeFigures& f : row.episodes) {
+      seconds += f.seconds;
+      setup += f.setup_seconds;
+      raw += f.raw_seconds;
+      control += f.control_steps;
+      physics += f.physics_steps;
+      peak = std::max(peak, f.peak_kib);
+      efc = std::max(efc, f.maxuse_efc);
+      con = std::max(con, f.maxuse_con);
+      stack = std::max(stack, f.maxuse_stack);
+      ratios.push_back(f.seconds / f.raw_seconds);
+      run_ratios.push_back((f.seconds - f.setup_seconds) / f.raw_seconds);
+      successes += f.success ? 1 : 0;
+      differ += f.differs ? 1 : 0;
+    }
+    const double n = static_cast<double>(row.episodes.size());
+    const EpisodeFigures& first = row.episodes.front();
+    std::printf("%-22s %-24s %-14s %9.3f %9.3f %10.0f %11.0f %11.0f %8.3f %8.3f %9.1f %5d/%-5d %5d/%-5d %5d %6d\n",
+                row.task.c_str(), row.policy.c_str(), row.physics.c_str(), seconds / n, setup / n, control / seconds,
+                physics / seconds, physics / raw, median(ratios), median(run_ratios), peak / 1024.0,
+                efc, first.njmax, con, first.nconmax, successes, differ);
+    json_rows.push_back({{"task", row.task},
+                         {"policy", row.policy},
+                         {"episodes", row.episodes.size()},
+                         {"physics", row.physics},
+                         {"successes", successes},
+                         {"differ_from_first_physics", differ},
+                         {"seconds_per_episode", seconds / n},
+                         {"setup_seconds_per_episode", setup / n},
+                         {"control_steps_per_second", control / seconds},
+                         {"physics_steps_per_second", physics / seconds},
+                         {"raw_physics_steps_per_second", physics / raw},
+                         {"physics_steps_per_episode", static_cast<double>(physics) / n},
+                         {"cost_ratio", median(ratios)},
+                         {"run_cost_ratio", median(run_ratios)},
+                         {"peak_mib_per_worker", peak / 1024.0},
+                         {"maxuse_efc", efc},
+                         {"njmax", first.njmax},
+                         {"maxuse_con", con},
+                         {"nconmax", first.nconmax},
+                         {"maxuse_stack", stack},
+                         {"nstack", first.nstack}});
+  }
+  std::printf("(differ: episodes whose outcome or log differs from the first --physics candidate's; "
+              "cost/raw: episode wall time / raw mj_step on the same model and steps, median over "
+              "episodes; run/raw: the same without the setup; peak MB: resident memory one episode adds)\n");
+  for (const ScalingRow& s : scaling) {
+    std::printf("%d thread%s: %d episodes in %.2f s, %.3f episodes/s, peak %.1f MB per worker\n", s.threads,
+                s.threads == 1 ? "" : "s", s.episodes, s.seconds, s.episodes / s.seconds,
+                s.peak_kib_per_worker / 1024.0);
+  }
+  std::printf("process peak resident memory: %.1f MB\n", status_kib("VmHWM:") / 1024.0);
+
+  if (!o.json.empty()) {
+    nlohmann::json j;
+    j["hribench_version"] = std::string(core::version());
+    j["git_hash"] = std::string(core::git_hash());
+    j["mujoco_version"] = mj_versionString();
+    j["seeds"] = o.seeds;
+    j["seed"] = o.seed;
+    j["repeats"] = o.repeats;
+    j["horizon"] = o.horizon > 0 ? nlohmann::json(o.horizon) : nlohmann::json("script");
+    j["tasks"] = json_rows;
+    j["scaling"] = nlohmann::json::array();
+    for (const ScalingRow& s : scaling) {
+      j["scaling"].push_back({{"threads", s.threads},
+                              {"episodes", s.episodes},
+                              {"seconds", s.seconds},
+                              {"episodes_per_second", s.episodes / s.seconds},
+                              {"peak_mib_per_worker", s.peak_kib_per_worker / 1024.0}});
+    }
+    json_file << j.dump(2) << "\n";
+    json_file.close();
+    if (!json_file) throw core::InputError::Message("--json", "cannot write '" + o.json + "'");
+  }
+  return 0;
+}
+
+}  // namespace hribench::cli

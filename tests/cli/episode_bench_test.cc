@@ -1,0 +1,109 @@
+// Tests of `hribench bench --episodes` (cli/episode_bench.h): a short run of two tasks writes
+// a row per (task, policy) with the episode's step counts, positive rates and ratios, and the
+// MuJoCo arena use within the model's capacity; the scaling rows with --threads 2; bad
+// options are one clear line. Timings are never asserted beyond being positive.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "support/run_command.h"
+
+namespace hribench::cli {
+namespace {
+
+using ::hribench::testing::count_lines;
+using ::hribench::testing::run_hribench;
+
+nlohmann::json run_episode_bench_json(const std::string& flags) {
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("hribench_episode_bench_" + std::to_string(getpid()) + ".json"))
+                               .string();
+  std::remove(path.c_str());
+  const auto r = run_hribench("bench --episodes --json " + path + " " + flags);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("cost/raw"), std::string::npos) << r.output;
+  std::ifstream file(path);
+  nlohmann::json j = nlohmann::json::parse(file, nullptr, /*allow_exceptions=*/false);
+  std::remove(path.c_str());
+  return j;
+}
+
+TEST(EpisodeBenchTest, RowPerTaskAndPolicyWithRatiosAndArenaUse) {
+  const nlohmann::json j =
+      run_episode_bench_json("--tasks I1,C1 --policies noop,oracle --horizon 0.5 --threads 2");
+  ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
+  EXPECT_EQ(j["mujoco_version"], "2.2.2");
+  ASSERT_EQ(j["tasks"].size(), 4u);
+  EXPECT_EQ(j["tasks"][0]["task"], "point_pick");
+  EXPECT_EQ(j["tasks"][0]["policy"], "noop");
+  EXPECT_EQ(j["tasks"][1]["policy"], "oracle");
+  EXPECT_EQ(j["tasks"][2]["task"], "handover_h2r");
+  for (const auto& row : j["tasks"]) {
+    EXPECT_EQ(row["episodes"], 1);
+    // 0.5 s at 20 Hz control, 25 physics steps each.
+    EXPECT_DOUBLE_EQ(row["physics_steps_per_episode"].get<double>(), 10 * 25) << row.dump();
+    for (const char* key : {"seconds_per_episode", "setup_seconds_per_episode", "control_steps_per_second",
+                            "physics_steps_per_second", "raw_physics_steps_per_second", "cost_ratio",
+                            "run_cost_ratio"}) {
+      ASSERT_TRUE(row[key].is_number()) << key;
+      EXPECT_GT(row[key].get<double>(), 0) << key << " in " << row.dump();
+    }
+    EXPECT_GT(row["maxuse_efc"].get<int>(), 0);
+    EXPECT_LE(row["maxuse_efc"].get<int>(), row["njmax"].get<int>());
+    EXPECT_GT(row["maxuse_con"].get<int>(), 0);
+    EXPECT_LE(row["maxuse_con"].get<int>(), row["nconmax"].get<int>());
+    EXPECT_LE(row["maxuse_stack"].get<int>(), row["nstack"].get<int>());
+  }
+  ASSERT_EQ(j["scaling"].size(), 2u);
+  EXPECT_EQ(j["scaling"][0]["threads"], 1);
+  EXPECT_EQ(j["scaling"][1]["threads"], 2);
+  for (const auto& row : j["scaling"]) {
+    EXPECT_EQ(row["episodes"], 4);
+    EXPECT_GT(row["episodes_per_second"].get<double>(), 0);
+  }
+}
+
+TEST(EpisodeBenchTest, PhysicsCandidatesAreRowsComparedWithTheFirst) {
+  // A candidate equal to the scene as built (50 solver iterations) gives the same episode
+  // (differ 0); Euler changes the physics, so its log differs from the implicit integrator's.
+  const nlohmann::json j = run_episode_bench_json(
+      "--tasks I1 --policies noop --horizon 0.3 --threads 1 --physics implicit,iterations=50,euler+iterations=20");
+  ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
+  ASSERT_EQ(j["tasks"].size(), 3u);
+  EXPECT_EQ(j["tasks"][0]["physics"], "implicit");
+  EXPECT_EQ(j["tasks"][1]["physics"], "iterations=50");
+  EXPECT_EQ(j["tasks"][1]["differ_from_first_physics"], 0);
+  EXPECT_EQ(j["tasks"][2]["physics"], "euler+iterations=20");
+  EXPECT_EQ(j["tasks"][2]["differ_from_first_physics"], 1);
+}
+
+TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
+  for (const auto& [args, message] :
+       {std::pair<std::string, std::string>{"bench --episodes --seeds 0",
+                                            "--seeds: expected a positive number of episodes per task, got 0"},
+        {"bench --episodes --repeats 0", "--repeats: expected a positive number of runs per episode, got 0"},
+        {"bench --episodes --horizon -2", "--horizon: expected a positive number of seconds, got -2"},
+        {"bench --episodes --policies nope", "policy: expected one of blind, noop, oracle, random, reactive, got 'nope'"},
+        {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics rk4",
+         "--physics: expected implicit, euler, iterations=N, tolerance=X, joined by '+', got 'rk4'"},
+        {"bench --episodes --tasks I1 --horizon 0.1 --policies 'noop?cameras=wrist:64'",
+         "policy noop: cameras: expected NAME:WIDTHxHEIGHT joined by '+' (e.g. agentview:224x224+wrist:224x224), "
+         "sides in [1, 4096], got 'wrist:64'"},
+        {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --policies 'noop?cameras=nope:32x32'",
+         "policy noop?cameras=nope:32x32 camera: expected one of agentview, wrist, got 'nope'"}}) {
+    const auto r = run_hribench(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_EQ(count_lines(r.output), 1) << r.output;
+    EXPECT_EQ(r.output, "hribench: error: " + message + "\n") << args;
+  }
+}
+
+}  // namespace
+}  // namespace hribench::cli
