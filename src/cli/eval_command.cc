@@ -15,6 +15,7 @@
 // per episode (the contract's home TCP comes from the episode's own Data).
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <chrono>
 #include <cstdint>
@@ -46,6 +47,7 @@
 #include "gen/pool.h"
 #include "model/model.h"
 #include "policy/registry.h"
+#include "remote/remote.h"
 #include "script/check.h"
 #include "script/sample.h"
 #include "sim/data.h"
@@ -269,25 +271,52 @@ int run_eval(const EvalOptions& o) {
   std::vector<WorkerPolicies> worker_policies(static_cast<size_t>(o.threads));
   const auto start = std::chrono::steady_clock::now();
   size_t done = 0;
-  const std::vector<eval::EpisodeResult> results = eval::run_jobs(
-      todo.size(), o.threads,
-      [&](size_t job, int worker) {
-        const Job& j = all_jobs[todo[job]];
-        const std::optional<fs::path> log_file =
-            o.save_logs ? std::optional<fs::path>(log_path(o.out, j)) : std::nullopt;
-        return run_one(j, run_options, worker_policies[static_cast<size_t>(worker)], log_file);
-      },
-      [&](size_t, const eval::EpisodeResult& result) {
-        eval::append_episode_line(lines_file, result);
-        ++done;
-        const double elapsed =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0;
-        const double eta = rate > 0 ? static_cast<double>(todo.size() - done) / rate : 0;
-        std::fprintf(stderr, "\rhribench eval: %zu/%zu episodes (%zu resumed), %.2f ep/s, ETA %.0f s ",
-                     done + finished.size(), all_jobs.size(), finished.size(), rate, eta);
-        std::fflush(stderr);
-      });
+  // A remote policy that cannot connect for remote::kMaxConnectFailures episodes in a row stops
+  // the run (docs/remote-policies.md). Those episodes are held back, not written, so --resume
+  // runs them again; an isolated connection failure is written once a later episode connects.
+  std::vector<eval::EpisodeResult> unconnected;
+  std::atomic<bool> stop{false};
+  const auto append = [&](const eval::EpisodeResult& result) {
+    eval::append_episode_line(lines_file, result);
+    ++done;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0;
+    const double eta = rate > 0 ? static_cast<double>(todo.size() - done) / rate : 0;
+    std::fprintf(stderr, "\rhribench eval: %zu/%zu episodes (%zu resumed), %.2f ep/s, ETA %.0f s ",
+                 done + finished.size(), all_jobs.size(), finished.size(), rate, eta);
+    std::fflush(stderr);
+  };
+  std::vector<eval::EpisodeResult> results;
+  try {
+    results = eval::run_jobs(
+        todo.size(), o.threads,
+        [&](size_t job, int worker) {
+          if (stop) throw std::runtime_error("stopped");
+          const Job& j = all_jobs[todo[job]];
+          const std::optional<fs::path> log_file =
+              o.save_logs ? std::optional<fs::path>(log_path(o.out, j)) : std::nullopt;
+          return run_one(j, run_options, worker_policies[static_cast<size_t>(worker)], log_file);
+        },
+        [&](size_t, const eval::EpisodeResult& result) {
+          if (remote::is_connect_failure(result.status_reason)) {
+            unconnected.push_back(result);
+            if (static_cast<int>(unconnected.size()) >= remote::kMaxConnectFailures) stop = true;
+            return;
+          }
+          for (const eval::EpisodeResult& held : unconnected) append(held);
+          unconnected.clear();
+          append(result);
+        });
+  } catch (const std::exception&) {
+    if (!stop) throw;
+  }
+  if (stop) {
+    std::fprintf(stderr, "\nhribench eval: stopped: %d episodes in a row could not connect (%s); %zu episodes are in %s, "
+                 "continue with --resume\n", remote::kMaxConnectFailures, unconnected.back().status_reason.c_str(),
+                 done + finished.size(), lines_file.string().c_str());
+    return 1;
+  }
+  for (const eval::EpisodeResult& held : unconnected) append(held);
   if (!todo.empty()) std::fprintf(stderr, "\n");
   for (size_t i = 0; i < todo.size(); ++i) by_key.insert_or_assign(all_jobs[todo[i]].key, results[i]);
 

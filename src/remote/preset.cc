@@ -1,0 +1,341 @@
+#include "remote/preset.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <ranges>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "core/errors.h"
+#include "core/json.h"
+#include "script/schema_io.h"
+
+namespace hribench::remote {
+namespace {
+
+using policy::ActionChunk;
+using policy::ActionSpace;
+using policy::PolicyError;
+using policy::PolicyErrorKind;
+
+constexpr int kWholeChunk = std::numeric_limits<int>::max();  // replan_every: execute every action
+
+[[noreturn]] void bad_reply(const std::string& message) { throw PolicyError(PolicyErrorKind::kWrongShape, message); }
+
+NdArray vector_array(const std::vector<double>& values, std::string_view dtype) {
+  return NdArray::from_doubles(values, {values.size()}, dtype);
+}
+
+// A (H, D) or (H,) group as H rows of D values (D = 1 for (H,)).
+std::vector<std::vector<double>> rows(const NdArray& a, const std::string& name) {
+  if (a.shape.empty() || a.shape.size() > 2) {
+    bad_reply(fmt::format("action '{}': expected shape (H, D) or (H,), got {} dimensions", name, a.shape.size()));
+  }
+  const std::vector<double> values = a.to_doubles("action '" + name + "'");
+  const size_t h = a.shape[0];
+  const size_t d = a.shape.size() == 2 ? a.shape[1] : 1;
+  std::vector<std::vector<double>> out(h);
+  for (size_t i = 0; i < h; ++i) out[i].assign(values.begin() + static_cast<long>(i * d), values.begin() + static_cast<long>((i + 1) * d));
+  return out;
+}
+
+// Concatenates the groups of `layout` row by row, or takes the single array "actions".
+std::vector<std::vector<double>> concatenated(const ActionGroups& groups,
+                                              const std::vector<std::pair<std::string, int>>& layout) {
+  int width = 0;
+  for (const auto& [name, w] : layout) width += w;
+  std::string present;
+  for (const auto& [name, array] : groups) present += (present.empty() ? "" : ", ") + name;
+  const auto group = [&](const std::string& name) -> const NdArray* {
+    for (const auto& [n, array] : groups) {
+      if (n == name) return &array;
+    }
+    return nullptr;
+  };
+  if (const NdArray* actions = group("actions")) {
+    std::vector<std::vector<double>> out = rows(*actions, "actions");
+    if (actions->shape.size() != 2 || static_cast<int>(actions->shape[1]) < width) {
+      bad_reply(fmt::format("actions: expected shape (H, {}), got ({})", width, fmt::join(actions->shape, ", ")));
+    }
+    for (auto& row : out) row.resize(static_cast<size_t>(width));  // openpi pads; keep the first D
+    return out;
+  }
+  std::vector<std::vector<double>> out;
+  for (const auto& [name, w] : layout) {
+    const NdArray* a = group(name);
+    if (a == nullptr) {
+      bad_reply(fmt::format("no 'actions' in the reply (got: {}; or the groups {})", present.empty() ? "none" : present,
+                            fmt::join(layout | std::views::keys, ", ")));
+    }
+    const std::vector<std::vector<double>> part = rows(*a, name);
+    if (out.empty()) out.resize(part.size());
+    if (part.size() != out.size()) {
+      bad_reply(fmt::format("action '{}': {} steps, the other groups have {}", name, part.size(), out.size()));
+    }
+    for (size_t i = 0; i < part.size(); ++i) {
+      if (static_cast<int>(part[i].size()) != w) {
+        bad_reply(fmt::format("action '{}': expected {} values per step, got {}", name, w, part[i].size()));
+      }
+      out[i].insert(out[i].end(), part[i].begin(), part[i].end());
+    }
+  }
+  return out;
+}
+
+std::vector<double> pose_values(const core::Pose& X) {
+  const core::Vec3& p = X.translation;
+  const core::Quat& q = X.rotation;
+  return {p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z()};
+}
+
+core::Pose pose_from(const double* v) {
+  core::Pose X;
+  X.translation = core::Vec3(v[0], v[1], v[2]);
+  X.rotation = core::Quat(v[3], v[4], v[5], v[6]);
+  return X;
+}
+
+// ---- hribench ----------------------------------------------------------------------------
+
+class NativePreset : public Preset {
+ public:
+  NativePreset(policy::PolicySpec spec, std::string dtype) : spec_(std::move(spec)), dtype_(std::move(dtype)) {}
+  std::string name() const override { return "hribench"; }
+  policy::PolicySpec spec() const override { return spec_; }
+  void begin(const policy::EpisodeInfo& info) override {
+    info_ = info;
+    first_ = true;
+  }
+
+  ObservationGroups encode(const policy::Observation& obs) override {
+    ObservationGroups g;
+    for (const policy::Image& image : obs.images) {
+      g.video.emplace_back(image.camera,
+                           NdArray::from_bytes(image.pixels.data(), {static_cast<size_t>(image.height),
+                                                                     static_cast<size_t>(image.width), 3}));
+    }
+    const policy::Proprioception& p = obs.proprio;
+    g.state.emplace_back("joint_position", vector_array({p.joint_pos.begin(), p.joint_pos.end()}, dtype_));
+    g.state.emplace_back("joint_velocity", vector_array({p.joint_vel.begin(), p.joint_vel.end()}, dtype_));
+    g.state.emplace_back("gripper_width", vector_array({p.gripper_width}, dtype_));
+    g.state.emplace_back("tcp_pose", vector_array(pose_values(p.X_WT), dtype_));
+    g.state.emplace_back("time", vector_array({obs.time}, dtype_));
+    if (obs.state) {
+      std::vector<double> joints;
+      for (const core::Vec3& j : obs.state->human_joints_W) joints.insert(joints.end(), {j.x(), j.y(), j.z()});
+      g.state.emplace_back("human_joints", vector_array(joints, dtype_));
+      std::vector<double> poses;
+      List names;
+      for (const policy::ObjectPose& o : obs.state->objects) {
+        const std::vector<double> v = pose_values(o.X_WO);
+        poses.insert(poses.end(), v.begin(), v.end());
+        names.emplace_back(o.name);
+      }
+      g.state.emplace_back("object_poses", vector_array(poses, dtype_));
+      g.extras.emplace_back("object_names", std::move(names));
+    }
+    g.language = obs.instruction;
+    if (first_) {
+      Map start{{"task", info_.task},
+                {"instruction", info_.instruction},
+                {"seed", std::to_string(info_.seed)},
+                {"horizon", info_.horizon},
+                {"control_dt", info_.control_dt},
+                {"robot", info_.robot}};
+      if (spec_.privileged && info_.episode) {
+        start.emplace_back("episode", core::canonical_json(script::to_json(*info_.episode)));
+      }
+      g.extras.emplace_back("reset", std::move(start));
+      first_ = false;
+    }
+    if (spec_.privileged) {
+      List events;
+      for (const policy::ScriptEvent& e : obs.events) events.emplace_back(List{e.time, e.kind, e.name, e.detail});
+      g.extras.emplace_back("events", std::move(events));
+    }
+    return g;
+  }
+
+  ActionChunk decode(const ActionGroups& groups) override {
+    ActionChunk chunk;
+    chunk.space = spec_.action_space;
+    chunk.actions = concatenated(groups, action_layout());
+    return chunk;
+  }
+
+  std::vector<std::pair<std::string, int>> action_layout() const override {
+    if (spec_.action_space == ActionSpace::kEeDelta) return {{"eef_delta", 6}, {"gripper", 1}};
+    const model::Robot& robot = model::robot_by_name(info_.robot);
+    return {{"joint_position", static_cast<int>(robot.dof())}, {"gripper", 1}};
+  }
+
+ private:
+  policy::PolicySpec spec_;
+  std::string dtype_;
+  policy::EpisodeInfo info_;
+  bool first_ = true;
+};
+
+const NdArray& state_group(const ObservationGroups& g, const std::string& name) {
+  for (const auto& [n, a] : g.state) {
+    if (n == name) return a;
+  }
+  throw WireError(fmt::format("hribench layout: no state '{}'", name));
+}
+
+std::vector<double> state_values(const ObservationGroups& g, const std::string& name, size_t size) {
+  std::vector<double> v = state_group(g, name).to_doubles("state '" + name + "'");
+  if (size != 0 && v.size() != size) {
+    throw WireError(fmt::format("state '{}': expected {} values, got {}", name, size, v.size()));
+  }
+  return v;
+}
+
+}  // namespace
+
+Value spec_to_value(const policy::PolicySpec& spec) {
+  List cameras;
+  for (const policy::CameraRequest& c : spec.cameras) cameras.emplace_back(List{c.name, c.width, c.height});
+  return Map{{"cameras", std::move(cameras)},
+             {"state_track", spec.state_track},
+             {"action_space", std::string(policy::to_string(spec.action_space))},
+             {"replan_every", spec.replan_every},
+             {"privileged", spec.privileged}};
+}
+
+policy::PolicySpec spec_from_value(const Value& value, std::string_view where) {
+  const std::string w(where);
+  const Map& m = value.map(w);
+  policy::PolicySpec spec;
+  for (const Value& c : at(m, "cameras", w).list(w + ".cameras")) {
+    const List& camera = c.list(w + ".cameras[]");
+    if (camera.size() != 3) throw WireError(w + ".cameras[]: expected [name, width, height]");
+    spec.cameras.push_back({camera[0].str(w + ".cameras[].name"),
+                            static_cast<int>(camera[1].number(w + ".cameras[].width")),
+                            static_cast<int>(camera[2].number(w + ".cameras[].height"))});
+  }
+  const auto flag = [&](const char* key) {
+    const Value& v = at(m, key, w);
+    if (const auto* b = std::get_if<bool>(&v.v)) return *b;
+    throw WireError(fmt::format("{}.{}: expected bool, got {}", w, key, v.kind()));
+  };
+  spec.state_track = flag("state_track");
+  spec.privileged = flag("privileged");
+  try {
+    spec.action_space = policy::action_space_from_string(at(m, "action_space", w).str(w + ".action_space"), w);
+  } catch (const core::InputError& e) {
+    throw WireError(e.what());
+  }
+  spec.replan_every = std::max(1, static_cast<int>(at(m, "replan_every", w).number(w + ".replan_every")));
+  return spec;
+}
+
+std::vector<std::string> preset_names() { return {"hribench"}; }
+
+std::unique_ptr<Preset> make_preset(const PresetOptions& options, const std::string& where) {
+  if (options.name == "hribench") {
+    policy::PolicySpec spec;
+    if (options.served_spec) {
+      spec = *options.served_spec;
+      if (spec.privileged && !options.allow_privileged) {
+        throw core::InputError(where, "a server for a learner (no privileged track), or privileged=1 in the reference",
+                               "a server asking for the privileged track (the episode and its events)");
+      }
+    } else {
+      spec.cameras = {{"agentview", 224, 224}, {"wrist", 224, 224}};
+      spec.action_space = options.space;
+      spec.replan_every = kWholeChunk;
+    }
+    if (options.state_dtype != "<f8" && options.state_dtype != "<f4") {
+      throw core::InputError(where + ": dtype", "f8 or f4", "'" + options.state_dtype + "'");
+    }
+    return std::make_unique<NativePreset>(spec, options.state_dtype);
+  }
+  std::string names;
+  for (const std::string& n : preset_names()) names += (names.empty() ? "" : ", ") + n;
+  throw core::InputError(where, "a preset (" + names + ")", "'" + options.name + "'");
+}
+
+NativeQuery decode_native(const ObservationGroups& g, const policy::PolicySpec& spec) {
+  NativeQuery q;
+  if (const Value* start = find(g.extras, "reset")) {
+    const Map& m = start->map("hribench/reset");
+    policy::EpisodeInfo info;
+    info.task = at(m, "task", "reset").str("reset.task");
+    info.instruction = at(m, "instruction", "reset").str("reset.instruction");
+    info.seed = std::stoull(at(m, "seed", "reset").str("reset.seed"));
+    info.horizon = at(m, "horizon", "reset").number("reset.horizon");
+    info.control_dt = at(m, "control_dt", "reset").number("reset.control_dt");
+    info.robot = at(m, "robot", "reset").str("reset.robot");
+    if (const Value* episode = find(m, "episode")) {
+      const core::Json json = core::parse_json(episode->str("reset.episode"), "hribench/reset.episode");
+      info.episode = std::make_shared<const script::EpisodeSpec>(script::episode_from_json(json, "hribench/reset.episode"));
+    }
+    q.start = std::move(info);
+  }
+  policy::Observation& obs = q.observation;
+  for (const policy::CameraRequest& c : spec.cameras) {
+    const NdArray* found = nullptr;
+    for (const auto& [name, a] : g.video) {
+      if (name == c.name) found = &a;
+    }
+    if (found == nullptr) throw WireError(fmt::format("hribench layout: no image '{}'", c.name));
+    if (found->dtype != "|u1" || found->shape != std::vector<size_t>{static_cast<size_t>(c.height), static_cast<size_t>(c.width), 3}) {
+      throw WireError(fmt::format("image '{}': expected uint8 ({}, {}, 3)", c.name, c.height, c.width));
+    }
+    policy::Image image;
+    image.camera = c.name;
+    image.width = c.width;
+    image.height = c.height;
+    image.pixels.assign(found->data.begin(), found->data.end());
+    obs.images.push_back(std::move(image));
+  }
+  const std::vector<double> q_pos = state_values(g, "joint_position", 0);
+  const std::vector<double> q_vel = state_values(g, "joint_velocity", q_pos.size());
+  if (q_pos.size() > model::kMaxArmDof) throw WireError("state 'joint_position': too many joints");
+  obs.proprio.joint_pos = model::JointVector(q_pos.size());
+  obs.proprio.joint_vel = model::JointVector(q_pos.size());
+  std::copy(q_pos.begin(), q_pos.end(), obs.proprio.joint_pos.begin());
+  std::copy(q_vel.begin(), q_vel.end(), obs.proprio.joint_vel.begin());
+  obs.proprio.gripper_width = state_values(g, "gripper_width", 1)[0];
+  obs.proprio.X_WT = pose_from(state_values(g, "tcp_pose", 7).data());
+  obs.time = state_values(g, "time", 1)[0];
+  obs.instruction = g.language;
+  if (spec.state_track) {
+    policy::StateObservation state;
+    const std::vector<double> joints = state_values(g, "human_joints", 3 * policy::kHumanKeypoints);
+    for (size_t i = 0; i < state.human_joints_W.size(); ++i) {
+      state.human_joints_W[i] = core::Vec3(joints[3 * i], joints[3 * i + 1], joints[3 * i + 2]);
+    }
+    const List& names = at(g.extras, "object_names", "hribench extras").list("object_names");
+    const std::vector<double> poses = state_values(g, "object_poses", 7 * names.size());
+    for (size_t i = 0; i < names.size(); ++i) {
+      state.objects.push_back({names[i].str("object_names[]"), pose_from(poses.data() + 7 * i)});
+    }
+    obs.state = std::move(state);
+  }
+  if (spec.privileged) {
+    for (const Value& e : at(g.extras, "events", "hribench extras").list("events")) {
+      const List& fields = e.list("events[]");
+      if (fields.size() != 4) throw WireError("events[]: expected [time, kind, name, detail]");
+      obs.events.push_back({fields[0].number("events[].time"), fields[1].str("events[].kind"),
+                            fields[2].str("events[].name"), fields[3].str("events[].detail")});
+    }
+  }
+  return q;
+}
+
+ActionGroups encode_native_actions(const policy::ActionChunk& chunk) {
+  const size_t width = chunk.actions.empty() ? 0 : chunk.actions[0].size();
+  std::vector<double> values;
+  for (const policy::Action& a : chunk.actions) {
+    if (a.size() != width) throw PolicyError(PolicyErrorKind::kWrongShape, "the served policy's actions differ in size");
+    values.insert(values.end(), a.begin(), a.end());
+  }
+  return {{"actions", NdArray::from_doubles(values, {chunk.actions.size(), width}, "<f8")}};
+}
+
+}  // namespace hribench::remote
