@@ -30,8 +30,8 @@ struct ServeOptions {
 };
 
 int run_serve(const ServeOptions& o) {
-  if (o.protocol != "openpi") {
-    throw core::InputError("--protocol", "openpi", "'" + o.protocol + "'");
+  if (o.protocol != "openpi" && o.protocol != "gr00t") {
+    throw core::InputError("--protocol", "openpi or gr00t", "'" + o.protocol + "'");
   }
   if (o.port < -1 || o.port > 65535) throw core::InputError("--port", "a port in 0..65535", std::to_string(o.port));
   if (o.policy.find("://") != std::string::npos) {
@@ -47,7 +47,11 @@ int run_serve(const ServeOptions& o) {
                 o.protocol == "openpi" ? "ws" : "tcp", o.host.c_str(), static_cast<unsigned>(bound));
     std::fflush(stdout);
   };
-  remote::serve_openpi(o.host, port, make, listening, g_stop);
+  if (o.protocol == "openpi") {
+    remote::serve_openpi(o.host, port, make, listening, g_stop);
+  } else {
+    remote::serve_gr00t(o.host, port, make, listening, g_stop);
+  }
   return 0;
 }
 

@@ -328,14 +328,25 @@ NativeQuery decode_native(const ObservationGroups& g, const policy::PolicySpec& 
   return q;
 }
 
-ActionGroups encode_native_actions(const policy::ActionChunk& chunk) {
+ActionGroups encode_native_actions(const policy::ActionChunk& chunk, bool named) {
   const size_t width = chunk.actions.empty() ? 0 : chunk.actions[0].size();
   std::vector<double> values;
   for (const policy::Action& a : chunk.actions) {
     if (a.size() != width) throw PolicyError(PolicyErrorKind::kWrongShape, "the served policy's actions differ in size");
     values.insert(values.end(), a.begin(), a.end());
   }
-  return {{"actions", NdArray::from_doubles(values, {chunk.actions.size(), width}, "<f8")}};
+  const size_t h = chunk.actions.size();
+  if (!named) return {{"actions", NdArray::from_doubles(values, {h, width}, "<f8")}};
+  // The groups: eef_delta (H, 6) or joint_position (H, dof), then gripper (H, 1).
+  std::vector<double> arm;
+  std::vector<double> gripper;
+  for (const policy::Action& a : chunk.actions) {
+    arm.insert(arm.end(), a.begin(), a.end() - 1);
+    gripper.push_back(a.back());
+  }
+  return {{chunk.space == ActionSpace::kEeDelta ? "eef_delta" : "joint_position",
+           NdArray::from_doubles(arm, {h, width - 1}, "<f8")},
+          {"gripper", NdArray::from_doubles(gripper, {h, 1}, "<f8")}};
 }
 
 }  // namespace hribench::remote

@@ -78,7 +78,8 @@ struct NativeQuery {
   policy::Observation observation;
 };
 NativeQuery decode_native(const ObservationGroups& groups, const policy::PolicySpec& spec);
-// The reply for a chunk: hribench action groups.
-ActionGroups encode_native_actions(const policy::ActionChunk& chunk);
+// The reply for a chunk in the hribench layout: one array "actions" (H, D), or (named) the
+// groups "eef_delta" (H, 6) or "joint_position" (H, dof), and "gripper" (H, 1).
+ActionGroups encode_native_actions(const policy::ActionChunk& chunk, bool named);
 
 }  // namespace hribench::remote

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <thread>
 
+#include <zmq.hpp>
+
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/beast/core.hpp>
@@ -12,6 +14,7 @@
 
 #include "core/errors.h"
 #include "model/robot.h"
+#include "remote/gr00t.h"
 #include "remote/openpi.h"
 #include "remote/preset.h"
 #include "remote/wire.h"
@@ -67,7 +70,7 @@ void handle_openpi_connection(tcp::socket socket, const PolicyMaker& make) {
       const policy::ActionChunk chunk = serve_query(*policy, openpi_groups(request_value.map("request")), started);
       const double infer_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
       Map reply;
-      for (auto& [name, array] : encode_native_actions(chunk)) {
+      for (auto& [name, array] : encode_native_actions(chunk, false)) {
         reply.emplace_back(name, std::move(array));
       }
       reply.emplace_back("policy_timing", Map{{"infer_ms", infer_ms}});
@@ -124,6 +127,58 @@ void serve_openpi(const std::string& host, uint16_t port, const PolicyMaker& mak
     socket.non_blocking(false);
     socket.set_option(tcp::no_delay(true), ec);
     std::thread([s = std::move(socket), make]() mutable { handle_openpi_connection(std::move(s), make); }).detach();
+  }
+}
+
+void serve_gr00t(const std::string& host, uint16_t port, const PolicyMaker& make,
+                 const std::function<void(uint16_t)>& on_listening, const std::atomic<bool>& stop) {
+  zmq::context_t context(1);
+  zmq::socket_t rep(context, zmq::socket_type::rep);
+  rep.set(zmq::sockopt::linger, 0);
+  try {
+    rep.bind(fmt::format("tcp://{}:{}", host, port == 0 ? std::string("*") : std::to_string(port)));
+  } catch (const zmq::error_t& e) {
+    throw core::InputError("--port", "a port free to listen on", fmt::format("{}: {}", port, e.what()));
+  }
+  const std::string bound = rep.get(zmq::sockopt::last_endpoint);
+  on_listening(static_cast<uint16_t>(std::stoi(bound.substr(bound.rfind(':') + 1))));
+  std::unique_ptr<policy::Policy> policy = make();
+  bool started = false;
+  while (!stop) {
+    zmq::pollitem_t items[] = {{rep.handle(), 0, ZMQ_POLLIN, 0}};
+    zmq::poll(items, 1, std::chrono::milliseconds(100));
+    if ((items[0].revents & ZMQ_POLLIN) == 0) continue;
+    zmq::message_t message;
+    if (!rep.recv(message, zmq::recv_flags::none)) continue;
+    Value reply;
+    bool kill = false;
+    try {
+      const Value request = unpack(std::string_view(static_cast<const char*>(message.data()), message.size()));
+      const Map& envelope = request.map("request");
+      const Value* endpoint_value = find(envelope, "endpoint");
+      const std::string endpoint = endpoint_value != nullptr ? endpoint_value->str("endpoint") : "get_action";
+      if (endpoint == "ping") {
+        reply = Map{{"status", "ok"}, {"message", "Server is running"}};
+      } else if (endpoint == "kill") {
+        kill = true;
+      } else if (endpoint == "get_modality_config") {
+        reply = Map{{"hribench/spec", spec_to_value(policy->spec())}};
+      } else if (endpoint == "reset") {
+        started = false;
+        reply = Map{};
+      } else if (endpoint == "get_action") {
+        const Map& data = at(envelope, "data", "request").map("data");
+        const Gr00tEra era = find(data, "observation") != nullptr ? Gr00tEra::kN16 : Gr00tEra::kN15;
+        reply = gr00t_reply(encode_native_actions(serve_query(*policy, gr00t_groups(data), started), true), era);
+      } else {
+        reply = Map{{"error", "Unknown endpoint: " + endpoint}};
+      }
+    } catch (const std::exception& e) {
+      reply = Map{{"error", std::string(dynamic_cast<const policy::PolicyError*>(&e) != nullptr ? "PolicyError: " : "") + e.what()}};
+    }
+    const std::string bytes = pack(reply, ArrayCodec::kGr00t);
+    rep.send(zmq::buffer(bytes), zmq::send_flags::none);
+    if (kill) return;
   }
 }
 

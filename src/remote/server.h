@@ -7,6 +7,7 @@
 //            (a Python-style traceback whose last line is "ExceptionType: message") then close
 //            1011. Each connection gets its own policy instance (several eval threads may
 //            connect at once).
+//   GR00T  — see serve_gr00t.
 // Episodes: the first request of an episode carries the side channel's "reset" (task, seed,
 // robot, ... and, for privileged policies, the EpisodeSpec JSON), which resets the policy; the
 // privileged policies (oracle, reactive, blind) read the episode from there and the events from
@@ -30,6 +31,13 @@ using PolicyMaker = std::function<std::unique_ptr<policy::Policy>()>;
 // cannot be bound.
 void serve_openpi(const std::string& host, uint16_t port, const PolicyMaker& make,
                   const std::function<void(uint16_t)>& on_listening, const std::atomic<bool>& stop);
+// GR00T: a ZeroMQ REP socket bound to tcp://host:port answering ping, get_modality_config
+// ({"hribench/spec": the spec}), reset, get_action (either era's layout, told by the
+// "observation" key; the reply in that era's form with the groups "eef_delta" or
+// "joint_position", and "gripper") and kill (stops serving). Errors are {"error": "..."}. One
+// policy instance: REQ/REP serves one request at a time, so serve one client (--threads 1).
+void serve_gr00t(const std::string& host, uint16_t port, const PolicyMaker& make,
+                 const std::function<void(uint16_t)>& on_listening, const std::atomic<bool>& stop);
 
 // One served query of the hribench layout on `policy` (shared by both protocols): resets it on
 // an episode's first query, then acts. `started` tracks whether an episode has begun.

@@ -86,6 +86,20 @@ TEST(ServeCommandTest, OracleOverOpenpiReproducesTheInProcessOracle) {
   expect_same_episodes(local, remote);
 }
 
+TEST(ServeCommandTest, OracleOverGr00tReproducesTheInProcessOracleInBothEras) {
+  const std::string local = temp_dir("oracle_local_g");
+  ASSERT_EQ(eval_into(local, "oracle").exit_code, 0);
+  for (const std::string era : {"n15", "n16"}) {
+    ServerProcess server({HRIBENCH_BINARY, "serve", "--policy", "oracle", "--protocol", "gr00t", "--port", "0"});
+    EXPECT_NE(server.first_line().find("oracle over gr00t at tcp://127.0.0.1:"), std::string::npos);
+    const std::string remote = temp_dir("oracle_gr00t_" + era);
+    const auto r = eval_into(remote, "gr00t://127.0.0.1:" + std::to_string(server.port()) +
+                                         "?privileged=1&dtype=f8&era=" + era);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    expect_same_episodes(local, remote);
+  }
+}
+
 TEST(ServeCommandTest, APrivilegedServerNeedsPrivilegedInTheReference) {
   ServerProcess server({HRIBENCH_BINARY, "serve", "--policy", "oracle", "--protocol", "openpi", "--port", "0"});
   const auto r = run_hribench("eval --tasks I1 --episodes 1 --horizon 1 --policy openpi://127.0.0.1:" +

@@ -12,6 +12,7 @@
 
 #include "policy/registry.h"
 #include "remote/remote.h"
+#include "remote/remote_test_support.h"
 #include "support/server_process.h"
 #include "support/test_files.h"
 
@@ -21,23 +22,8 @@ namespace {
 using ::hribench::testing::reference_server;
 using ::hribench::testing::ServerProcess;
 
-policy::Observation observation(const policy::PolicySpec& spec) {
-  policy::Observation obs;
-  obs.time = 0.25;
-  obs.instruction = "hand me the cup";
-  obs.proprio.joint_pos = model::JointVector(7, 0.1);
-  obs.proprio.joint_vel = model::JointVector(7, 0.0);
-  obs.proprio.gripper_width = 0.08;
-  for (const policy::CameraRequest& c : spec.cameras) {
-    policy::Image image;
-    image.camera = c.name;
-    image.width = c.width;
-    image.height = c.height;
-    image.pixels.assign(static_cast<size_t>(c.width * c.height * 3), 128);
-    obs.images.push_back(image);
-  }
-  return obs;
-}
+using testing::observation;
+using testing::validation_error;
 
 std::unique_ptr<policy::Policy> client(int port, const std::string& options = "") {
   register_remote_policies();
@@ -119,12 +105,7 @@ TEST(OpenpiClient, NanAndOutOfRangeRepliesAreLeftToTheRunnersValidation) {
     auto p = client(server.port());
     p->reset(policy::EpisodeInfo{});
     const policy::ActionChunk chunk = p->act(observation(p->spec()));
-    std::string message = "(no error)";
-    try {
-      policy::validate_chunk(chunk, p->spec().action_space, policy::ActionLimits{});
-    } catch (const policy::PolicyError& e) {
-      message = e.what();
-    }
+    const std::string message = validation_error(chunk, p->spec());
     EXPECT_NE(message.find(mode == "nan" ? "non_finite" : "out_of_range"), std::string::npos) << message;
   }
 }
