@@ -179,6 +179,152 @@ class NativePreset : public Preset {
   bool first_ = true;
 };
 
+// ---- libero (openpi pi05_libero) -----------------------------------------------------------
+
+// robosuite's OSC_POSE controller as LIBERO configures it: inputs clipped to [-1, 1], scaled to
+// at most 0.05 m and 0.5 rad per control step (20 Hz, as ours).
+constexpr double kLiberoMaxTranslation = 0.05;  // m per step
+constexpr double kLiberoMaxRotation = 0.5;      // rad per step
+constexpr int kLiberoReplan = 5;                // examples/libero/main.py replan_steps
+
+// An upright image mirrored left-right: robosuite renders bottom-up (OpenGL) and LIBERO's
+// example rotates that by 180 degrees, which is the upright image mirrored.
+NdArray mirrored(const policy::Image& image) {
+  NdArray a;
+  a.dtype = "|u1";
+  a.shape = {static_cast<size_t>(image.height), static_cast<size_t>(image.width), 3};
+  a.data.resize(image.pixels.size());
+  const size_t w = static_cast<size_t>(image.width);
+  for (size_t r = 0; r < static_cast<size_t>(image.height); ++r) {
+    for (size_t c = 0; c < w; ++c) {
+      std::memcpy(a.data.data() + (r * w + c) * 3, image.pixels.data() + (r * w + (w - 1 - c)) * 3, 3);
+    }
+  }
+  return a;
+}
+
+// robosuite's quat2axisangle (LIBERO's example): angle 2 acos(w) in [0, 2 pi] about the axis.
+core::Vec3 quat_to_axis_angle(const core::Quat& q) {
+  const double w = std::clamp(q.w(), -1.0, 1.0);
+  const double den = std::sqrt(1.0 - w * w);
+  if (den < 1e-12) return core::Vec3::Zero();
+  return core::Vec3(q.x(), q.y(), q.z()) * (2.0 * std::acos(w)) / den;
+}
+
+const policy::Image& image_of(const policy::Observation& obs, const std::string& camera) {
+  for (const policy::Image& image : obs.images) {
+    if (image.camera == camera) return image;
+  }
+  HRIB_CHECK(false) << "no image of camera " << camera;
+  return obs.images.front();
+}
+
+class LiberoPreset : public Preset {
+ public:
+  std::string name() const override { return "libero"; }
+  policy::PolicySpec spec() const override {
+    policy::PolicySpec spec;
+    spec.cameras = {{"agentview", 224, 224}, {"wrist", 224, 224}};
+    spec.action_space = ActionSpace::kEeDelta;
+    spec.replan_every = kLiberoReplan;
+    return spec;
+  }
+  void begin(const policy::EpisodeInfo&) override {}
+  ObservationGroups encode(const policy::Observation& obs) override {
+    ObservationGroups g;
+    g.video.emplace_back("image", mirrored(image_of(obs, "agentview")));
+    g.video.emplace_back("wrist_image", mirrored(image_of(obs, "wrist")));
+    const core::Vec3& p = obs.proprio.X_WT.translation;
+    const core::Vec3 r = quat_to_axis_angle(obs.proprio.X_WT.rotation);
+    const double half = obs.proprio.gripper_width / 2;
+    g.state.emplace_back("state", vector_array({p.x(), p.y(), p.z(), r.x(), r.y(), r.z(), half, -half}, "<f4"));
+    g.language = obs.instruction;
+    return g;
+  }
+  ActionChunk decode(const ActionGroups& groups) override {
+    ActionChunk chunk;
+    chunk.space = ActionSpace::kEeDelta;
+    for (std::vector<double> a : concatenated(groups, action_layout())) {
+      for (double& v : a) v = std::clamp(v, -1.0, 1.0);  // robosuite clips its input (NaN stays NaN)
+      policy::Action action(7);
+      for (int i = 0; i < 3; ++i) action[static_cast<size_t>(i)] = a[static_cast<size_t>(i)] * kLiberoMaxTranslation;
+      for (int i = 3; i < 6; ++i) action[static_cast<size_t>(i)] = a[static_cast<size_t>(i)] * kLiberoMaxRotation;
+      action[6] = (1.0 - a[6]) / 2.0;  // LIBERO: -1 open, +1 closed
+      chunk.actions.push_back(std::move(action));
+    }
+    return chunk;
+  }
+  std::vector<std::pair<std::string, int>> action_layout() const override { return {{"actions", 7}}; }
+};
+
+// ---- droid (openpi pi05_droid) -------------------------------------------------------------
+
+// DROID's RobotIKSolver: a normalised joint velocity v (scaled down so max |v| <= 1) moves each
+// joint by v * 0.2 rad per control tick at 15 Hz; our step is control_dt long.
+constexpr double kDroidMaxJointDelta = 0.2;  // rad per DROID tick
+constexpr double kDroidHz = 15;
+constexpr int kDroidReplan = 8;  // examples/droid/main.py open_loop_horizon
+constexpr size_t kDroidDof = 7;
+
+class DroidPreset : public Preset {
+ public:
+  std::string name() const override { return "droid"; }
+  policy::PolicySpec spec() const override {
+    policy::PolicySpec spec;
+    spec.cameras = {{"agentview", 224, 224}, {"wrist", 224, 224}};
+    spec.action_space = ActionSpace::kJointPos;
+    spec.replan_every = kDroidReplan;
+    return spec;
+  }
+  void begin(const policy::EpisodeInfo& info) override {
+    const model::Robot& robot = model::robot_by_name(info.robot);
+    if (robot.dof() != kDroidDof) {
+      throw PolicyError(PolicyErrorKind::kFailed, fmt::format("preset droid needs a 7-joint arm, {} has {}", robot.name, robot.dof()));
+    }
+    max_width_ = robot.gripper.max_width();
+    control_dt_ = info.control_dt;
+  }
+  ObservationGroups encode(const policy::Observation& obs) override {
+    ObservationGroups g;
+    g.video.emplace_back("exterior_image_1_left", image_array(image_of(obs, "agentview")));
+    g.video.emplace_back("wrist_image_left", image_array(image_of(obs, "wrist")));
+    const model::JointVector& q = obs.proprio.joint_pos;
+    q_ = std::vector<double>(q.begin(), q.end());
+    g.state.emplace_back("joint_position", vector_array(q_, "<f4"));
+    g.state.emplace_back("gripper_position", vector_array({1.0 - obs.proprio.gripper_width / max_width_}, "<f4"));
+    g.language = obs.instruction;
+    return g;
+  }
+  ActionChunk decode(const ActionGroups& groups) override {
+    ActionChunk chunk;
+    chunk.space = ActionSpace::kJointPos;
+    std::vector<double> q = q_;  // integrated from the observed joint positions
+    const double scale = kDroidMaxJointDelta * kDroidHz * control_dt_;
+    for (std::vector<double> a : concatenated(groups, action_layout())) {
+      double norm = 0;
+      for (size_t j = 0; j < kDroidDof; ++j) norm = std::max(norm, std::abs(a[j]));
+      const double shrink = norm > 1 ? norm : 1;
+      policy::Action action(kDroidDof + 1);
+      for (size_t j = 0; j < kDroidDof; ++j) {
+        q[j] += a[j] / shrink * scale;
+        action[j] = q[j];
+      }
+      action[kDroidDof] = a[kDroidDof] > 0.5 ? 0.0 : 1.0;  // DROID: 1 closed (binarised at 0.5 as its example)
+      chunk.actions.push_back(std::move(action));
+    }
+    return chunk;
+  }
+  std::vector<std::pair<std::string, int>> action_layout() const override { return {{"actions", 8}}; }
+
+ private:
+  static NdArray image_array(const policy::Image& image) {
+    return NdArray::from_bytes(image.pixels.data(), {static_cast<size_t>(image.height), static_cast<size_t>(image.width), 3});
+  }
+  double max_width_ = 0.08;
+  double control_dt_ = 0.05;
+  std::vector<double> q_;
+};
+
 const NdArray& state_group(const ObservationGroups& g, const std::string& name) {
   for (const auto& [n, a] : g.state) {
     if (n == name) return a;
@@ -233,7 +379,7 @@ policy::PolicySpec spec_from_value(const Value& value, std::string_view where) {
   return spec;
 }
 
-std::vector<std::string> preset_names() { return {"hribench"}; }
+std::vector<std::string> preset_names() { return {"droid", "hribench", "libero"}; }
 
 std::unique_ptr<Preset> make_preset(const PresetOptions& options, const std::string& where) {
   if (options.name == "hribench") {
@@ -254,6 +400,8 @@ std::unique_ptr<Preset> make_preset(const PresetOptions& options, const std::str
     }
     return std::make_unique<NativePreset>(spec, options.state_dtype);
   }
+  if (options.name == "libero") return std::make_unique<LiberoPreset>();
+  if (options.name == "droid") return std::make_unique<DroidPreset>();
   std::string names;
   for (const std::string& n : preset_names()) names += (names.empty() ? "" : ", ") + n;
   throw core::InputError(where, "a preset (" + names + ")", "'" + options.name + "'");

@@ -46,6 +46,20 @@ TEST(OpenpiClient, QueriesTheReferenceServerWithTwoImages) {
   }
 }
 
+TEST(OpenpiClient, StockPresetsSendTheKeysTheStockConfigsRead) {
+  // The reference server checks pi05_libero's and pi05_droid's keys and shapes and answers
+  // (10, 7) and (15, 8) chunks.
+  for (const std::string preset : {"libero", "droid"}) {
+    ServerProcess server(reference_server("openpi_server.py", {"--preset", preset}));
+    auto p = client(server.port(), "preset=" + preset);
+    p->reset(policy::EpisodeInfo{});
+    const policy::ActionChunk chunk = p->act(observation(p->spec()));
+    EXPECT_EQ(chunk.actions.size(), preset == "libero" ? 10u : 15u) << preset;
+    EXPECT_EQ(validation_error(chunk, p->spec()), "(no error)") << preset;
+    EXPECT_EQ(chunk.actions[0].back(), 1.0) << preset;  // open
+  }
+}
+
 TEST(OpenpiClient, NothingListeningIsOneInputErrorAtOnce) {
   int port = 0;
   {

@@ -1,6 +1,6 @@
 #pragma once
 // Shared by the remote client tests: an observation as the runner would make it for a spec
-// (proprioception of a 7-joint arm, grey images for each requested camera), and the message
+// (proprioception of the Panda at home, grey images for each requested camera), and the message
 // the runner's validation gives a chunk.
 
 #include <string>
@@ -13,7 +13,7 @@ inline policy::Observation observation(const policy::PolicySpec& spec) {
   policy::Observation obs;
   obs.time = 0.25;
   obs.instruction = "hand me the cup";
-  obs.proprio.joint_pos = model::JointVector(7, 0.1);
+  obs.proprio.joint_pos = model::robot_by_name("panda").home();
   obs.proprio.joint_vel = model::JointVector(7, 0.0);
   obs.proprio.gripper_width = 0.08;
   for (const policy::CameraRequest& c : spec.cameras) {
@@ -30,7 +30,7 @@ inline policy::Observation observation(const policy::PolicySpec& spec) {
 // The PolicyError message validate_chunk gives `chunk` ("(no error)" if none).
 inline std::string validation_error(const policy::ActionChunk& chunk, const policy::PolicySpec& spec) {
   try {
-    policy::validate_chunk(chunk, spec.action_space, policy::ActionLimits{});
+    policy::validate_chunk(chunk, spec.action_space, policy::action_limits(model::robot_by_name("panda")));
   } catch (const policy::PolicyError& e) {
     return e.what();
   }

@@ -14,7 +14,8 @@ connection, from 1; --after 0 applies to the upgrade itself):
   wrong_keys, wrong_shape, nan, range (an out-of-range action), error (an exception: text frame
   + close 1011), die (the process exits: later connections are refused), str_keys (marker keys
   sent as str: a client must then see no array).
-Prints "PORT <n>" once listening (--port 0 picks a free port). Stops on SIGTERM.
+--preset hribench|libero|droid: the request keys checked and the actions' width and length
+(libero (10, 7), droid (15, 8)). Prints "PORT <n>" once listening (--port 0 picks a free port). Stops on SIGTERM.
 """
 import argparse
 import asyncio
@@ -58,8 +59,18 @@ def unpackb(data):
     return msgpack.unpackb(data, object_hook=unpack_array)
 
 
-def check_request(obs):
-    """The hribench preset's request, as a stock openpi server's transforms would read it."""
+# The keys each preset's request must hold, and its action width and chunk length, as the stock
+# configs expect them (pi05_libero: examples/libero/main.py; pi05_droid: examples/droid/main.py).
+PRESETS = {
+    "hribench": (("observation/joint_position", "observation/gripper_width", "observation/tcp_pose"), 7, None),
+    "libero": (("observation/image", "observation/wrist_image", "observation/state"), 7, 10),
+    "droid": (("observation/exterior_image_1_left", "observation/wrist_image_left", "observation/joint_position",
+               "observation/gripper_position"), 8, 15),
+}
+
+
+def check_request(obs, preset):
+    """The preset's request, as a stock openpi server's transforms would read it."""
     if not isinstance(obs, dict):
         raise TypeError(f"request is {type(obs).__name__}, not a dict")
     if not isinstance(obs.get("prompt"), str):
@@ -67,18 +78,27 @@ def check_request(obs):
     for key, value in obs.items():
         if key.startswith("observation/") and not isinstance(value, np.ndarray):
             raise TypeError(f"{key} is {type(value).__name__}, not an ndarray (marker keys must be bin)")
-    for key in ("observation/joint_position", "observation/gripper_width", "observation/tcp_pose"):
+    for key in PRESETS[preset][0]:
         if key not in obs:
             raise KeyError(key)
+    if preset == "libero":
+        assert obs["observation/state"].shape == (8,), obs["observation/state"].shape
+        assert obs["observation/image"].shape == (224, 224, 3)
+    if preset == "droid":
+        assert obs["observation/joint_position"].shape == (7,)
+        assert obs["observation/gripper_position"].shape == (1,)
     for key, value in obs.items():
         if key.startswith("observation/") and value.dtype == np.uint8:
             if value.ndim != 3 or value.shape[2] != 3:
                 raise ValueError(f"{key}: image shape {value.shape}, expected (H, W, 3)")
 
 
-def actions_for(mode, horizon, dtype):
-    actions = np.zeros((horizon, 7), dtype=dtype)
-    actions[:, 6] = 1.0  # gripper fully open
+def actions_for(mode, horizon, dtype, preset):
+    width = PRESETS[preset][1]
+    horizon = PRESETS[preset][2] or horizon
+    actions = np.zeros((horizon, width), dtype=dtype)
+    # Hold still with the gripper open: hribench opening 1; LIBERO -1 (open); DROID 0 (open).
+    actions[:, width - 1] = {"hribench": 1.0, "libero": -1.0, "droid": 0.0}[preset]
     reply = {"actions": actions, "policy_timing": {"infer_ms": 0.1}}
     if mode == "wrong_keys":
         reply = {"action": actions}
@@ -106,7 +126,7 @@ async def handler(args, websocket, path=None):
         mode = args.mode if active else "ok"
         try:
             obs = unpackb(message)
-            check_request(obs)
+            check_request(obs, args.preset)
             if mode == "close":
                 await websocket.close()
                 return
@@ -119,7 +139,7 @@ async def handler(args, websocket, path=None):
                 continue
             if mode == "error":
                 raise RuntimeError("policy exploded on purpose")
-            reply = actions_for(mode, args.horizon, np.dtype(args.dtype))
+            reply = actions_for(mode, args.horizon, np.dtype(args.dtype), args.preset)
             reply["server_timing"] = {"infer_ms": (time.monotonic() - start) * 1000}
             if prev_total is not None:
                 reply["server_timing"]["prev_total_ms"] = prev_total
@@ -144,6 +164,7 @@ async def main():
     parser.add_argument("--after", type=int, default=1)
     parser.add_argument("--horizon", type=int, default=10)
     parser.add_argument("--dtype", default="<f4")
+    parser.add_argument("--preset", default="hribench", choices=sorted(PRESETS))
     args = parser.parse_args()
     async with websockets.serve(functools.partial(handler, args), "127.0.0.1", args.port, compression=None,
                                 max_size=None, process_request=health_check) as server:
