@@ -53,6 +53,7 @@ void handle_openpi_connection(tcp::socket socket, const PolicyMaker& make) {
   }
   websocket::stream<tcp::socket> ws(std::move(socket));
   ws.read_message_max(0);
+  ws.auto_fragment(false);  // one frame per message
   ws.accept(request, ec);
   if (ec) return;
   std::unique_ptr<policy::Policy> policy = make();

@@ -110,6 +110,7 @@ WebSocketClient::WebSocketClient(const std::string& host, const std::string& por
   connect(impl_->io, impl_->ws.next_layer(), host, port, timeout);
   auto& ws = impl_->ws;
   ws.read_message_max(0);  // no limit, as the openpi server and client
+  ws.auto_fragment(false);  // one frame per message, as openpi's client sends it
   websocket::stream_base::timeout options = websocket::stream_base::timeout::suggested(beast::role_type::client);
   options.keep_alive_pings = false;  // our deadlines bound every read instead
   options.idle_timeout = websocket::stream_base::none();

@@ -16,7 +16,6 @@ wrong_keys, wrong_shape, nan, range, error ({"error": ...}), raw_error (b"ERROR"
 --once: only request --after misbehaves. --token T: requests must carry api_token T. Prints "PORT <n>" once bound (--port 0: a free port).
 """
 import argparse
-import io
 import json
 import os
 import sys
@@ -26,23 +25,9 @@ import msgpack
 import numpy as np
 import zmq
 
+from msgpack_forms import packb_gr00t, unpackb_gr00t
+
 HORIZON = 16
-
-
-def encode(obj):
-    if isinstance(obj, np.ndarray):
-        out = io.BytesIO()
-        np.save(out, obj, allow_pickle=False)
-        return {"__ndarray_class__": True, "as_npy": out.getvalue()}
-    return obj
-
-
-def decode(obj):
-    if not isinstance(obj, dict):
-        return obj
-    if "__ndarray_class__" in obj:
-        return np.load(io.BytesIO(obj["as_npy"]), allow_pickle=False)
-    return obj
 
 
 def check_n15(obs):
@@ -106,7 +91,7 @@ def main():
     while True:
         raw = socket.recv()
         try:
-            request = msgpack.unpackb(raw, object_hook=decode)
+            request = unpackb_gr00t(raw)
             if args.token and request.get("api_token") != args.token:
                 socket.send(msgpack.packb({"error": "Unauthorized: Invalid API token"}))
                 continue
@@ -146,7 +131,7 @@ def main():
                 reply = actions(mode, args.era)
             else:
                 raise ValueError(f"Unknown endpoint: {endpoint}")
-            socket.send(msgpack.packb(reply, default=encode))
+            socket.send(packb_gr00t(reply))
         except Exception as e:  # the service's error reply
             socket.send(msgpack.packb({"error": str(e)}))
 

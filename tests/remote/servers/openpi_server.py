@@ -12,8 +12,7 @@ The policy holds still: `actions` (H, 7) with zero deltas and the gripper open (
 connection, from 1; --after 0 applies to the upgrade itself):
   ok, close (close the connection), hang (never answer), garbage (bytes that are not msgpack),
   wrong_keys, wrong_shape, nan, range (an out-of-range action), error (an exception: text frame
-  + close 1011), die (the process exits: later connections are refused), str_keys (marker keys
-  sent as str: a client must then see no array).
+  + close 1011), die (the process exits: later connections are refused).
 --preset hribench|libero|droid: the request keys checked and the actions' width and length
 (libero (10, 7), droid (15, 8)). Prints "PORT <n>" once listening (--port 0 picks a free port). Stops on SIGTERM.
 """
@@ -26,37 +25,12 @@ import sys
 import time
 import traceback
 
-import msgpack
 import numpy as np
 import websockets
 import websockets.server
 
-
-def pack_array(obj, str_keys=False):
-    if isinstance(obj, np.ndarray):
-        if obj.dtype.kind in ("V", "O", "c"):
-            raise ValueError(f"Unsupported dtype: {obj.dtype}")
-        k = (lambda s: s) if str_keys else (lambda s: s.encode())
-        return {k("__ndarray__"): True, k("data"): obj.tobytes(), k("dtype"): obj.dtype.str, k("shape"): obj.shape}
-    if isinstance(obj, np.generic):
-        return {b"__npgeneric__": True, b"data": obj.item(), b"dtype": obj.dtype.str}
-    return obj
-
-
-def unpack_array(obj):
-    if b"__ndarray__" in obj:
-        return np.ndarray(buffer=obj[b"data"], dtype=np.dtype(obj[b"dtype"]), shape=obj[b"shape"])
-    if b"__npgeneric__" in obj:
-        return np.dtype(obj[b"dtype"]).type(obj[b"data"])
-    return obj
-
-
-def packb(obj, str_keys=False):
-    return msgpack.packb(obj, default=functools.partial(pack_array, str_keys=str_keys))
-
-
-def unpackb(data):
-    return msgpack.unpackb(data, object_hook=unpack_array)
+from msgpack_forms import packb_openpi as packb
+from msgpack_forms import unpackb_openpi as unpackb
 
 
 # The keys each preset's request must hold, and its action width and chunk length, as the stock
@@ -143,7 +117,7 @@ async def handler(args, websocket, path=None):
             reply["server_timing"] = {"infer_ms": (time.monotonic() - start) * 1000}
             if prev_total is not None:
                 reply["server_timing"]["prev_total_ms"] = prev_total
-            await websocket.send(packb(reply, str_keys=(mode == "str_keys")))
+            await websocket.send(packb(reply))
             prev_total = (time.monotonic() - start) * 1000
         except Exception:
             await websocket.send(traceback.format_exc())
