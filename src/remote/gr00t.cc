@@ -153,6 +153,7 @@ Gr00tPolicy::Gr00tPolicy(Endpoint endpoint, Gr00tEra era, std::string api_token)
   preset_ = make_preset(endpoint_.preset, where + ": preset");
   spec_ = preset_->spec();
   if (endpoint_.replan_every) spec_.replan_every = *endpoint_.replan_every;
+  spec_.execute_while_thinking = endpoint_.execute_while_thinking;
 }
 
 Gr00tPolicy::~Gr00tPolicy() = default;

@@ -54,6 +54,11 @@ Endpoint endpoint_from_ref(policy::PolicyRef& ref, const std::string& default_dt
   if (ref.options.count("replan_every") != 0) {
     e.replan_every = static_cast<int>(policy::take_integer_option(ref, "replan_every", 1, 1, 10000));
   }
+  const std::string while_thinking = policy::take_option(ref, "while_thinking", "hold");
+  if (while_thinking != "hold" && while_thinking != "continue") {
+    throw core::InputError(where + ": while_thinking", "hold or continue", "'" + while_thinking + "'");
+  }
+  e.execute_while_thinking = while_thinking == "continue";
   e.preset.name = policy::take_option(ref, "preset", "hribench");
   const std::string dtype = policy::take_option(ref, "dtype", default_dtype);
   if (dtype != "f8" && dtype != "f4") throw core::InputError(where + ": dtype", "f8 or f4", "'" + dtype + "'");
@@ -124,6 +129,7 @@ OpenpiPolicy::OpenpiPolicy(Endpoint endpoint) : endpoint_(std::move(endpoint)) {
   preset_ = make_preset(endpoint_.preset, where + ": preset");
   spec_ = preset_->spec();
   if (endpoint_.replan_every) spec_.replan_every = *endpoint_.replan_every;
+  spec_.execute_while_thinking = endpoint_.execute_while_thinking;
 }
 
 void OpenpiPolicy::connect() {

@@ -34,12 +34,13 @@ struct Endpoint {
   std::chrono::milliseconds timeout{120000};  // per reply; longer than a first-call JIT
   std::chrono::milliseconds connect_timeout{5000};
   std::optional<int> replan_every;  // from the reference
+  bool execute_while_thinking = false;  // while_thinking=continue (PolicySpec)
   PresetOptions preset;
   std::string text() const;  // "openpi://HOST:PORT"
 };
 
-// Reads host, port and the shared options (preset, timeout=SECONDS, replan_every=N, dtype=f8|f4,
-// space=ee_delta|joint_pos, privileged=0|1) from `ref`; leaves protocol options in it.
+// Reads host, port and the shared options (preset, timeout=SECONDS, replan_every=N,
+// while_thinking=hold|continue, dtype=f8|f4, space=ee_delta|joint_pos, privileged=0|1) from `ref`; leaves protocol options in it.
 // Throws core::InputError naming the reference.
 Endpoint endpoint_from_ref(policy::PolicyRef& ref, const std::string& default_dtype);
 

@@ -19,7 +19,8 @@ void register_remote_policies() {
     policy::register_policy(policy::PolicyEntry{
         "openpi",
         "a policy served by openpi's websocket server: openpi://HOST:PORT (options: preset=hribench|libero|droid, "
-        "timeout=S, replan_every=N, dtype=f8|f4, space=ee_delta|joint_pos, privileged=0|1; "
+        "timeout=S, replan_every=N, while_thinking=hold|continue, dtype=f8|f4, space=ee_delta|joint_pos, "
+        "privileged=0|1; "
         "docs/remote-policies.md)",
         [](policy::PolicyRef ref) -> std::unique_ptr<policy::Policy> {
           Endpoint endpoint = endpoint_from_ref(ref, "f8");
@@ -29,7 +30,7 @@ void register_remote_policies() {
     policy::register_policy(policy::PolicyEntry{
         "gr00t",
         "a policy served by Isaac-GR00T's ZeroMQ inference service: gr00t://HOST:PORT (options: era=n16|n15, "
-        "preset=hribench, timeout=S, replan_every=N, dtype=f4|f8, space=ee_delta|joint_pos, privileged=0|1, "
+        "preset=hribench, timeout=S, replan_every=N, while_thinking=hold|continue, dtype=f4|f8, space=ee_delta|joint_pos, privileged=0|1, "
         "api_token=TEXT; docs/remote-policies.md)",
         [](policy::PolicyRef ref) -> std::unique_ptr<policy::Policy> {
           Endpoint endpoint = endpoint_from_ref(ref, "f4");

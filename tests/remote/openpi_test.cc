@@ -60,6 +60,16 @@ TEST(OpenpiClient, StockPresetsSendTheKeysTheStockConfigsRead) {
   }
 }
 
+TEST(OpenpiClient, ReplanEveryAndWhileThinkingComeFromTheReference) {
+  ServerProcess server(reference_server("openpi_server.py", {}));
+  EXPECT_FALSE(client(server.port())->spec().execute_while_thinking);
+  const policy::PolicySpec spec = client(server.port(), "replan_every=4&while_thinking=continue")->spec();
+  EXPECT_EQ(spec.replan_every, 4);
+  EXPECT_TRUE(spec.execute_while_thinking);
+  const std::string message = ::hribench::testing::error_of([&] { client(server.port(), "while_thinking=run"); });
+  EXPECT_NE(message.find("hold or continue"), std::string::npos) << message;
+}
+
 TEST(OpenpiClient, NothingListeningIsOneInputErrorAtOnce) {
   int port = 0;
   {
