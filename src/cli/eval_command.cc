@@ -13,6 +13,8 @@
 // combines the N folders (eval/shard.h, docs/scale.md).
 // The run itself is the library's (gen/evaluation.h, eval/run.h), shared with Python's
 // hribench.evaluate: one instance of each policy per worker thread, reset for every episode.
+// A remote policy that cannot connect for remote::kMaxConnectFailures episodes in a row stops
+// the run (exit 1); those episodes are not written, so --resume runs them again.
 
 #include <cstdio>
 #include <memory>
@@ -24,6 +26,7 @@
 #include "gen/evaluation.h"
 #include "gen/pool.h"
 #include "policy/registry.h"
+#include "remote/remote.h"
 
 namespace hribench::cli {
 namespace {
@@ -32,15 +35,23 @@ int run_eval(const gen::EvalRequest& o) {
   const eval::PolicyMaker make = [](const std::string& reference) { return policy::make_policy(reference); };
   eval::RunSettings settings;
   const eval::RunPlan plan = gen::plan_evaluation(o, make, settings);
+  // A remote policy that cannot connect for several episodes in a row stops the run.
+  settings.unreachable = [](const eval::EpisodeResult& r) { return remote::is_connect_failure(r.status_reason); };
+  settings.max_unreachable = remote::kMaxConnectFailures;
   bool progressed = false;
-  const eval::RunResults run = eval::run_plan(
-      plan, settings, make, [&](const eval::RunProgress& p) {
-        // A one-line progress indicator.
-        std::fprintf(stderr, "\rhribench eval: %zu/%zu episodes (%zu resumed), %.2f ep/s, ETA %.0f s ",
-                     p.done, p.total, p.resumed, p.rate, p.eta);
-        std::fflush(stderr);
-        progressed = true;
-      });
+  eval::RunResults run;
+  try {
+    run = eval::run_plan(plan, settings, make, [&](const eval::RunProgress& p) {
+      // A one-line progress indicator.
+      std::fprintf(stderr, "\rhribench eval: %zu/%zu episodes (%zu resumed), %.2f ep/s, ETA %.0f s ", p.done,
+                   p.total, p.resumed, p.rate, p.eta);
+      std::fflush(stderr);
+      progressed = true;
+    });
+  } catch (const eval::RunStopped& stopped) {
+    std::fprintf(stderr, "\nhribench eval: stopped: %s\n", stopped.what());
+    return 1;
+  }
   if (progressed) {
     std::fprintf(stderr, "\n");
   } else {

@@ -11,6 +11,7 @@
 #include "core/log.h"
 #include "core/paths.h"
 #include "core/version.h"
+#include "remote/remote.h"
 
 namespace hribench::cli {
 
@@ -29,6 +30,7 @@ Registration::Registration(Command command) {
 namespace {
 
 int run(int argc, char** argv) {
+  remote::register_remote_policies();  // openpi:// and gr00t:// policy references
   CLI::App app{"HRIBench: interaction-centric human-robot collaboration benchmark"};
   app.require_subcommand(0, 1);
   app.set_version_flag("--version", std::string(core::version()) + " (" +

@@ -1,5 +1,6 @@
 #include "eval/run.h"
 
+#include <atomic>
 #include <cctype>
 #include <chrono>
 #include <exception>
@@ -8,6 +9,8 @@
 #include <optional>
 #include <set>
 #include <utility>
+
+#include <fmt/format.h>
 
 #include "core/errors.h"
 #include "core/files.h"
@@ -198,25 +201,49 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
   std::vector<WorkerPolicies> worker_policies(static_cast<size_t>(settings.threads));
   const auto start = std::chrono::steady_clock::now();
   size_t done = 0;
-  const std::vector<EpisodeResult> results = run_jobs(
-      todo.size(), settings.threads,
-      [&](size_t job, int worker) {
-        const Job& j = all_jobs[todo[job]];
-        const std::optional<fs::path> log_file =
-            settings.save_logs ? std::optional<fs::path>(log_path(settings.out, j)) : std::nullopt;
-        return run_one(j, settings.run_options, worker_policies[static_cast<size_t>(worker)], make,
-                       log_file);
-      },
-      [&](size_t, const EpisodeResult& result) {
-        append_episode_line(lines_file, result);
-        ++done;
-        if (!progress) return;
-        const double elapsed =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0;
-        const double eta = rate > 0 ? static_cast<double>(todo.size() - done) / rate : 0;
-        progress({done + finished.size(), all_jobs.size(), finished.size(), rate, eta});
-      });
+  const auto append = [&](const EpisodeResult& result) {
+    append_episode_line(lines_file, result);
+    ++done;
+    if (!progress) return;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0;
+    const double eta = rate > 0 ? static_cast<double>(todo.size() - done) / rate : 0;
+    progress({done + finished.size(), all_jobs.size(), finished.size(), rate, eta});
+  };
+  std::vector<EpisodeResult> unreachable;  // in a row, held back
+  std::atomic<bool> stop{false};
+  std::vector<EpisodeResult> results;
+  try {
+    results = run_jobs(
+        todo.size(), settings.threads,
+        [&](size_t job, int worker) {
+          if (stop) throw RunStopped("stopped");
+          const Job& j = all_jobs[todo[job]];
+          const std::optional<fs::path> log_file =
+              settings.save_logs ? std::optional<fs::path>(log_path(settings.out, j)) : std::nullopt;
+          return run_one(j, settings.run_options, worker_policies[static_cast<size_t>(worker)], make,
+                         log_file);
+        },
+        [&](size_t, const EpisodeResult& result) {
+          if (settings.unreachable && settings.unreachable(result)) {
+            unreachable.push_back(result);
+            if (static_cast<int>(unreachable.size()) >= settings.max_unreachable) stop = true;
+            return;
+          }
+          for (const EpisodeResult& held : unreachable) append(held);
+          unreachable.clear();
+          append(result);
+        });
+  } catch (const RunStopped&) {
+    if (!stop) throw;
+  }
+  if (stop) {
+    throw RunStopped(fmt::format("{} episodes in a row could not connect ({}); {} episodes are in {}, continue with "
+                                 "--resume",
+                                 settings.max_unreachable, unreachable.back().status_reason, done + finished.size(),
+                                 lines_file.string()));
+  }
+  for (const EpisodeResult& held : unreachable) append(held);
   for (size_t i = 0; i < todo.size(); ++i) by_key.insert_or_assign(all_jobs[todo[i]].key, results[i]);
 
   // Results in job order whatever the completion order or resume history.

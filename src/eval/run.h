@@ -16,6 +16,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,6 +46,19 @@ struct RunSettings {
   bool force = false;      // replace the run in `out`
   bool save_logs = false;  // OUT/logs/TASK__POLICY__SEED__HASH.hlog per episode
   RunOptions run_options;
+  // Episodes whose policy could not be reached (for remote policies remote::is_connect_failure
+  // of the status reason); null: none are. After `max_unreachable` of them in a row the run
+  // stops with RunStopped; those are held back, not written, so a resumed run runs them again
+  // (docs/remote-policies.md). An isolated one is written once a later episode reaches it.
+  std::function<bool(const EpisodeResult&)> unreachable;
+  int max_unreachable = 3;
+};
+
+// Thrown by run_plan when the policy could not be reached for max_unreachable episodes in a
+// row: "N episodes in a row could not connect (REASON); M episodes are in OUT/episodes.jsonl".
+class RunStopped : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 // After each finished episode: episodes done (resumed ones included) of the run's total.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <deque>
+#include <optional>
 #include <fmt/format.h>
 #include <vector>
 
@@ -65,6 +66,8 @@ const EpisodeLog& run_episode(Episode& episode, policy::Policy& policy,
   const auto stop = [&] { return until && until(episode); };
   std::deque<policy::Action> queue;     // actions to execute, one per control step
   std::vector<policy::Action> pending;  // a chunk that arrives when thinking ends
+  std::vector<policy::Action> pending_rest;  // its actions after the first replan_every
+  std::deque<policy::Action> rest;  // the current chunk's, executed while the next is thought of
   int thinking = 0;                     // control steps left until `pending` arrives
   while (!episode.done() && !stop()) {
     // Ask the policy when nothing is queued or on the way.
@@ -84,18 +87,31 @@ const EpisodeLog& run_episode(Episode& episode, policy::Policy& policy,
                            : options.latency.mode == LatencyMode::kFixed ? options.latency.fixed_seconds
                                                                          : wall;
       const size_t take = std::min(chunk.actions.size(), static_cast<size_t>(std::max(1, spec.replan_every)));
+      std::vector<policy::Action> chunk_rest;
+      if (spec.execute_while_thinking) chunk_rest.assign(chunk.actions.begin() + static_cast<long>(take), chunk.actions.end());
       chunk.actions.resize(take);
       thinking = static_cast<int>(std::ceil(delay / options.control_dt - 1e-9));
       if (thinking == 0) {
         queue.assign(chunk.actions.begin(), chunk.actions.end());
+        rest.assign(chunk_rest.begin(), chunk_rest.end());
       } else {
         pending = std::move(chunk.actions);
+        pending_rest = std::move(chunk_rest);
       }
     }
-    // Thinking: the previous command stays; otherwise execute the next action.
+    // Thinking: the previous command stays, or (execute_while_thinking) the previous chunk's
+    // rest runs on; otherwise execute the next action.
     if (thinking > 0) {
-      if (--thinking == 0) queue.assign(pending.begin(), pending.end());
-      episode.advance(nullptr);
+      std::optional<policy::Action> carried;
+      if (!rest.empty()) {
+        carried = std::move(rest.front());
+        rest.pop_front();
+      }
+      if (--thinking == 0) {
+        queue.assign(pending.begin(), pending.end());
+        rest.assign(pending_rest.begin(), pending_rest.end());
+      }
+      episode.advance(carried ? &*carried : nullptr);
     } else {
       const policy::Action action = std::move(queue.front());
       queue.pop_front();

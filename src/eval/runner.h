@@ -11,6 +11,9 @@
 //               whole control steps) with the previous command held — the servo targets stay
 //               where the last action put them — before the new chunk starts;
 //   measured  — as fixed, with the policy's wall-clock time (not deterministic).
+// A policy whose spec says execute_while_thinking keeps executing the rest of its previous
+// chunk (the actions after the first replan_every) during that time, holding only once they
+// run out; the new chunk then starts from its first action.
 // The human never waits for the robot: the ScenarioDriver drives it every physics step.
 
 #include <functional>

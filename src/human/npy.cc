@@ -147,7 +147,7 @@ size_t NpyArray::size() const {
   return n;
 }
 
-NpyArray parse_npy(std::string_view b, std::string_view where) {
+NpyArray parse_npy_layout(std::string_view b, std::string_view where) {
   static constexpr std::string_view kMagic = "\x93NUMPY";
   if (b.size() < 10 || b.substr(0, 6) != kMagic) {
     fail_at(where, 0, "the .npy magic \\x93NUMPY", b.size() < 10 ? fmt::format("{} bytes", b.size()) : "other bytes");
@@ -169,19 +169,25 @@ NpyArray parse_npy(std::string_view b, std::string_view where) {
   NpyArray a;
   a.descr = *h.descr;
   a.shape = *h.shape;
-  const std::string& d = a.descr;
-  if (d == "|O" || d == "O" || d == "<O" || d == ">O") {
+  if (a.descr == "|O" || a.descr == "O" || a.descr == "<O" || a.descr == ">O") {
     fail_at(where, header_start, "a numeric array", "dtype 'O' (pickled Python objects, refused)");
   }
+  if (*h.fortran_order) fail_at(where, header_start, "C order (fortran_order False)", "fortran_order True");
+  a.data_offset = header_start + header_len;
+  return a;
+}
+
+NpyArray parse_npy(std::string_view b, std::string_view where) {
+  NpyArray a = parse_npy_layout(b, where);
+  const size_t header_start = 8 + (static_cast<uint8_t>(b[6]) == 1 ? 2 : 4);
+  const std::string& d = a.descr;
   const bool ok_type = d.size() == 3 && (d[0] == '<' || d[0] == '>' || d[0] == '=' || d[0] == '|') &&
                        ((d[1] == 'f' && (d[2] == '4' || d[2] == '8')) || (d[1] == 'i' && (d[2] == '4' || d[2] == '8')));
   if (!ok_type) {
     fail_at(where, header_start, "dtype float32, float64, int32 or int64 ('<f4', '<f8', '<i4', '<i8')",
             fmt::format("'{}'", d));
   }
-  if (*h.fortran_order) fail_at(where, header_start, "C order (fortran_order False)", "fortran_order True");
   a.item_size = static_cast<size_t>(d[2] - '0');
-  a.data_offset = header_start + header_len;
   const size_t available = b.size() - a.data_offset;
   size_t n = 1;
   for (const size_t dim : a.shape) {
@@ -223,16 +229,13 @@ NpyArray read_npy(const std::filesystem::path& path) {
   return parse_npy(read_file(path, ".npy"), path.string());
 }
 
-std::string format_npy(const std::vector<size_t>& shape, const std::vector<double>& values, NpyType type) {
-  size_t n = 1;
-  for (const size_t d : shape) n *= d;
-  if (n != values.size()) throw std::logic_error("format_npy: shape does not match values");
+std::string npy_header(std::string_view descr, const std::vector<size_t>& shape) {
   std::string dims;
   for (const size_t d : shape) dims += fmt::format("{}, ", d);
   if (shape.size() > 1) dims.resize(dims.size() - 2);
   else if (shape.size() == 1) dims.pop_back();
-  std::string header = fmt::format("{{'descr': '{}', 'fortran_order': False, 'shape': ({}), }}",
-                                   type == NpyType::kFloat32 ? "<f4" : "<f8", dims);
+  std::string header =
+      fmt::format("{{'descr': '{}', 'fortran_order': False, 'shape': ({}), }}", descr, dims);
   while ((10 + header.size() + 1) % 64 != 0) header += ' ';
   header += '\n';
   std::string out = "\x93NUMPY";
@@ -240,6 +243,14 @@ std::string format_npy(const std::vector<size_t>& shape, const std::vector<doubl
   out += '\x00';
   put_le(out, header.size(), 2);
   out += header;
+  return out;
+}
+
+std::string format_npy(const std::vector<size_t>& shape, const std::vector<double>& values, NpyType type) {
+  size_t n = 1;
+  for (const size_t d : shape) n *= d;
+  if (n != values.size()) throw std::logic_error("format_npy: shape does not match values");
+  std::string out = npy_header(type == NpyType::kFloat32 ? "<f4" : "<f8", shape);
   for (const double v : values) {
     if (type == NpyType::kFloat32) {
       const auto f = static_cast<float>(v);

@@ -28,11 +28,17 @@ struct NpyArray {
 
 // Decodes .npy bytes; `where` names the source in errors ("FILE" or "FILE[member]").
 NpyArray parse_npy(std::string_view bytes, std::string_view where);
+// The header only (any dtype but 'O', C order): shape, descr and data_offset are set; values
+// and item_size are left empty. For readers that keep the raw bytes (remote/wire.h).
+NpyArray parse_npy_layout(std::string_view bytes, std::string_view where);
 NpyArray read_npy(const std::filesystem::path& path);
 
 // .npy bytes (version 1.0, header padded to 64 bytes) of `values` with `shape`, as little-endian
 // float32 ("<f4") or float64 ("<f8").
 enum class NpyType { kFloat32, kFloat64 };
+// The magic, version 1.0, length and header of an array of numpy dtype `descr` ("|u1", "<f4")
+// and `shape`, padded to a multiple of 64 bytes; the raw C-order data follows it.
+std::string npy_header(std::string_view descr, const std::vector<size_t>& shape);
 std::string format_npy(const std::vector<size_t>& shape, const std::vector<double>& values,
                        NpyType type);
 

@@ -60,6 +60,10 @@ struct PolicySpec {
   // (Observation::events) are observed. For privileged experts (the oracle and its scripted
   // baselines), never for a policy under evaluation as a learner.
   bool privileged = false;
+  // While the policy thinks (a latency other than none, eval/runner.h): false holds the last
+  // command; true keeps executing the rest of the previous chunk (the actions after the first
+  // replan_every), then holds once it runs out, as deployed chunking policies run.
+  bool execute_while_thinking = false;
 };
 
 // Facts about the episode a policy may know before the first observation.

@@ -17,6 +17,7 @@
 
 #include "eval/episode_log.h"
 #include "support/run_command.h"
+#include "support/server_process.h"
 #include "support/test_files.h"
 
 namespace hribench::cli {
@@ -239,6 +240,37 @@ TEST(ReportCommandTest, MissingRunIsOneLine) {
   const auto r = run_hribench("report " + temp_dir("missing"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_EQ(count_lines(r.output), 1) << r.output;
+}
+
+// A remote policy (docs/remote-policies.md) whose server dies mid-run: the episode it dies in
+// is a policy_error, the next 3 cannot connect and stop the run with one line (exit 1) without
+// being written; --resume with the server back finishes the run.
+TEST(EvalCommandTest, RemoteServerGoneStopsTheRunAndResumeContinues) {
+  using ::hribench::testing::reference_server;
+  using ::hribench::testing::ServerProcess;
+  const std::string dir = temp_dir("remote_gone");
+  auto server = std::make_unique<ServerProcess>(reference_server("openpi_server.py", {"--mode", "die", "--after", "3"}));
+  const std::string port = std::to_string(server->port());
+  const std::string run = "eval --tasks I1 --episodes 6 --horizon 1 --policy openpi://127.0.0.1:" + port +
+                          "?timeout=2 --out " + dir;
+  const auto first = run_hribench(run);
+  EXPECT_EQ(first.exit_code, 1) << first.output;
+  EXPECT_NE(first.output.find("stopped: 3 episodes in a row could not connect"), std::string::npos) << first.output;
+  EXPECT_NE(first.output.find("--resume"), std::string::npos) << first.output;
+  std::vector<std::string> statuses;
+  std::istringstream lines(read_text(fs::path(dir) / "episodes.jsonl"));
+  for (std::string line; std::getline(lines, line);) {
+    statuses.push_back(nlohmann::json::parse(line).at("status").get<std::string>());
+  }
+  EXPECT_EQ(statuses, (std::vector<std::string>{"ok", "policy_error"}));
+  EXPECT_FALSE(fs::exists(fs::path(dir) / "results.json"));
+  server.reset();
+  ServerProcess back(reference_server("openpi_server.py", {"--port", port}));
+  const auto resumed = run_hribench(run + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const nlohmann::json results = nlohmann::json::parse(read_text(fs::path(dir) / "results.json"));
+  ASSERT_EQ(results.at("episodes").size(), 6u);
+  for (size_t i = 2; i < 6; ++i) EXPECT_EQ(results.at("episodes")[i].at("status"), "ok") << i;
 }
 
 }  // namespace

@@ -451,5 +451,46 @@ TEST_F(RunnerTest, FixedLatencyShiftsTheResponseByItsDuration) {
   EXPECT_NEAR(fixed - none, 0.2, 0.026);
 }
 
+// Chunks of four actions told apart by their x step (0.001 .. 0.004 m), two executed per query.
+class FourActionChunks : public policy::NoopPolicy {
+ public:
+  explicit FourActionChunks(bool execute_while_thinking) : execute_while_thinking_(execute_while_thinking) {}
+  policy::PolicySpec spec() const override {
+    policy::PolicySpec s = NoopPolicy::spec();
+    s.replan_every = 2;
+    s.execute_while_thinking = execute_while_thinking_;
+    return s;
+  }
+  policy::ActionChunk act(const policy::Observation&) override {
+    policy::ActionChunk chunk{policy::ActionSpace::kEeDelta, {}};
+    for (int i = 1; i <= 4; ++i) chunk.actions.push_back({0.001 * i, 0, 0, 0, 0, 0, 1.0});
+    return chunk;
+  }
+
+ private:
+  bool execute_while_thinking_;
+};
+
+TEST_F(RunnerTest, WhileThinkingTheRobotHoldsOrExecutesThePreviousChunksRest) {
+  // fixed:100 = two control steps of thinking after each query.
+  const auto executed = [&](bool execute_while_thinking) {
+    FourActionChunks policy(execute_while_thinking);
+    StandingHumanDriver driver;
+    RunOptions options;
+    options.horizon = 0.5;
+    options.latency = parse_latency("fixed:100");
+    const EpisodeLog log = run_episode(*model_, *data_, policy, driver, setup("chunks"), options);
+    EXPECT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
+    std::vector<int> order;  // per step: 0 held, else the action's index in its chunk (1..4)
+    for (size_t k = 1; k < log.steps.size(); ++k) {
+      const policy::Action& a = log.steps[k].action;
+      order.push_back(a.empty() ? 0 : static_cast<int>(std::lround(a[0] / 0.001)));
+    }
+    return order;
+  };
+  EXPECT_EQ(executed(false), (std::vector<int>{0, 0, 1, 2, 0, 0, 1, 2, 0, 0}));
+  EXPECT_EQ(executed(true), (std::vector<int>{0, 0, 1, 2, 3, 4, 1, 2, 3, 4}));
+}
+
 }  // namespace
 }  // namespace hribench::eval
