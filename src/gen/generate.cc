@@ -90,7 +90,10 @@ std::vector<CandidateRecord> prepare_out(const GenerateOptions& o, const core::J
     throw core::InputError::Message(
         o.out, "holds an evaluation run (episodes.jsonl / results.json), not a pool; choose another --out");
   }
-  if (fs::exists(dir / "manifest.json")) {
+  // A finished generation resumed with its own options (a run killed after writing its
+  // manifest) redoes nothing and writes the same files again; any other pool is refused.
+  const bool own_options = fs::exists(options_file) && core::read_json_file(options_file.string()) == generator;
+  if (fs::exists(dir / "manifest.json") && !(o.resume && own_options)) {
     throw core::InputError::Message(o.out, "already holds a pool (manifest.json); choose another --out");
   }
   std::vector<CandidateRecord> finished;
@@ -100,7 +103,7 @@ std::vector<CandidateRecord> prepare_out(const GenerateOptions& o, const core::J
       throw core::InputError::Message(
           o.out, "holds an unfinished generation; use --resume to continue it (same options)");
     }
-    if (!fs::exists(options_file) || core::read_json_file(options_file.string()) != generator) {
+    if (!own_options) {
       throw core::InputError::Message(o.out, "holds a generation with other options; choose another --out");
     }
     if (fs::exists(lines_file)) finished = load_candidates(lines_file);

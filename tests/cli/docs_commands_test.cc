@@ -7,7 +7,8 @@
 // commands of a document may read what earlier ones wrote) with HRIBENCH_ROOT naming the
 // repository (so tasks/, pool/ and tests/ are found as from anywhere), with absolute /tmp paths
 // moved into that folder and the sizes shrunk (one task, one episode, a 1 s horizon, a few candidates,
-// tiny images): what is tested is that the command line is accepted and runs to the end.
+// tiny images; servers and commands that need one are only checked against help): what is
+// tested is that the command line is accepted and runs to the end.
 // Lines with placeholders (`[...]`, `A|B`, words like FILE or DIR, $VARIABLES) are templates: like inline
 // commands they are checked against `hribench help COMMAND`.
 
@@ -113,6 +114,14 @@ bool is_template(const std::string& text) {
          std::regex_search(text, placeholder);
 }
 
+// A server (`serve`, run until stopped, often with `&`) or a command that talks to one
+// (openpi:// or gr00t://): checked against help only; tests/remote and tests/cli/serve_command_test
+// run client and server together.
+bool needs_a_server(const std::string& text) {
+  return text.find(" serve ") != std::string::npos || text.find("openpi://") != std::string::npos ||
+         text.find("gr00t://") != std::string::npos || (!text.empty() && text.back() == '&');
+}
+
 // The options `hribench help COMMAND` lists (cached per command); empty for an unknown command.
 const std::set<std::string>& options_of(const std::string& command) {
   static std::map<std::string, std::set<std::string>> cache;
@@ -188,6 +197,10 @@ std::string small_version(const Shown& shown, const fs::path& dir) {
   } else if (command == "render") {
     set_option(w, "--width", "32");
     set_option(w, "--height", "24");
+  } else if (command == "bench" && has_option(w, "--episodes")) {
+    set_option(w, "--tasks", "I1");
+    set_option(w, "--seeds", "1");
+    set_option(w, "--horizon", "1");
   } else if (command == "bench") {
     set_option(w, "--seconds", "0.1");
   }
@@ -242,7 +255,7 @@ TEST(Docs, EveryFencedCommandRuns) {
     const fs::path dir = ::hribench::testing::temp_dir("docs", file.stem().string());
     fs::create_directories(dir);
     for (const Shown& shown : commands_in(file)) {
-      if (!shown.fenced || is_template(shown.text)) continue;
+      if (!shown.fenced || is_template(shown.text) || needs_a_server(shown.text)) continue;
       const std::string args = small_version(shown, dir);
       const auto r = ::hribench::testing::run_hribench_with(
           "cd '" + dir.string() + "' && HRIBENCH_ROOT='" + kRoot.string() + "' ", args);

@@ -90,7 +90,7 @@ TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
                                             "--seeds: expected a positive number of episodes per task, got 0"},
         {"bench --episodes --repeats 0", "--repeats: expected a positive number of runs per episode, got 0"},
         {"bench --episodes --horizon -2", "--horizon: expected a positive number of seconds, got -2"},
-        {"bench --episodes --policies nope", "policy: expected one of blind, noop, oracle, random, reactive, got 'nope'"},
+        {"bench --episodes --policies nope", "policy: expected one of blind, gr00t, noop, openpi, oracle, random, reactive, got 'nope'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics rk4",
          "--physics: expected implicit, euler, iterations=N, tolerance=X, joined by '+', got 'rk4'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --policies 'noop?cameras=wrist:64'",

@@ -137,6 +137,11 @@ TEST_F(GenerateTest, RefusesAFolderHoldingAnotherPoolWithoutTouchingIt) {
   other.resume = true;
   EXPECT_THAT(error_of([&] { generate(other); }), HasSubstr("already holds a pool"));
   EXPECT_EQ(read_file(fs::path(o.out) / "manifest.json"), manifest);
+  // Its own generation resumed (killed after the manifest was written) redoes nothing.
+  GenerateOptions same = o;
+  same.resume = true;
+  generate(same);
+  EXPECT_EQ(read_file(fs::path(o.out) / "manifest.json"), manifest);
 }
 
 TEST_F(GenerateTest, TooFewCandidatesSaysHowManyAreMissing) {
