@@ -50,6 +50,7 @@ fs::path log_path(const fs::path& dir, const Job& job) {
 EpisodeResult run_one(const Job& job, const RunOptions& base, WorkerPolicies& policies,
                       const PolicyMaker& make, const std::optional<fs::path>& log_file) {
   const script::EpisodeSpec& spec = *job.spec;
+  EpisodeResult result;
   try {
     std::unique_ptr<policy::Policy>& policy = policies[job.policy];
     if (!policy) policy = make(job.policy);
@@ -58,15 +59,10 @@ EpisodeResult run_one(const Job& job, const RunOptions& base, WorkerPolicies& po
     std::vector<EpisodeObserver*> observers;
     if (log_file) observers.push_back(&writer.emplace(*log_file));
     const ScoredEpisode scored = run_task_episode(spec, *policy, setup, base, observers);
-    EpisodeResult result = make_result(scored.log, scored.metrics);
-    result.task_id = job.task_id;
-    result.variant = spec.variant;
-    return result;
+    result = make_result(scored.log, scored.metrics);
   } catch (const std::exception& e) {
-    EpisodeResult result;
+    result = EpisodeResult{};
     result.task = spec.task;
-    result.task_id = job.task_id;
-    result.variant = spec.variant;
     result.role = spec.role;
     result.policy = job.policy;
     result.spec_hash = job.hash;
@@ -75,8 +71,11 @@ EpisodeResult run_one(const Job& job, const RunOptions& base, WorkerPolicies& po
     result.status_reason = e.what();
     result.metrics.labels = {FailureLabel::kInvalid};
     result.metrics.primary_label = FailureLabel::kInvalid;
-    return result;
   }
+  // What the spec knows and the log does not, for both ends.
+  result.task_id = job.task_id;
+  result.variant = spec.variant;
+  return result;
 }
 
 nlohmann::json read_json(const fs::path& path) {
