@@ -1,10 +1,10 @@
 #include "gen/evaluation.h"
 
 #include <algorithm>
-#include <fstream>
 #include <utility>
 
 #include "core/errors.h"
+#include "core/json.h"
 #include "core/paths.h"
 #include "eval/runner.h"
 #include "eval/script_contract.h"
@@ -168,13 +168,7 @@ LoggedEpisode load_logged_episode(const std::filesystem::path& run, const std::s
   logged.log = eval::load_episode_log(logged.log_file);
 
   // The spec the log ran: the pool's episode of that hash, or the task script sampled at its seed.
-  std::ifstream in(options_file);
-  nlohmann::json options;
-  try {
-    in >> options;
-  } catch (const std::exception&) {
-    throw core::InputError::Message(options_file.string(), "not valid JSON");
-  }
+  const nlohmann::json options = core::read_json_file(options_file.string());
   std::vector<script::EpisodeSpec> candidates;
   if (options.contains("pool")) {
     const Manifest manifest = read_manifest(options.at("pool").get<std::string>());
