@@ -4,8 +4,8 @@
 
 #include <filesystem>
 
-#include "policy/registry.h"
 #include "script/sample.h"
+#include "support/logged_run.h"
 #include "support/test_files.h"
 
 namespace hribench::gen {
@@ -15,25 +15,9 @@ namespace fs = std::filesystem;
 using testing::error_of;
 using testing::temp_dir;
 
-const eval::PolicyMaker kMake = [](const std::string& reference) {
-  return policy::make_policy(reference);
-};
-
 // A one-second noop run of I1 (two seeds) with its logs saved, made once for the suite.
 const fs::path& logged_run() {
-  static const fs::path run = [] {
-    EvalRequest request;
-    request.tasks = "I1";
-    request.policies = "noop";
-    request.episodes = 2;
-    request.seed = 5;
-    request.sampling_flags = true;
-    request.horizon = 1;
-    request.save_logs = true;
-    request.out = temp_dir("evaluation", "logged");
-    run_evaluation(request, kMake);
-    return fs::path(request.out);
-  }();
+  static const fs::path run = testing::make_logged_run("evaluation", "I1", "noop", 2, 5, 1);
   return run;
 }
 
