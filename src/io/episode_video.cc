@@ -66,7 +66,7 @@ render::BandCell response_cell(const eval::Event* cue, const eval::EpisodeMetric
                           *result.response_time - result.cue_time),
               result.responded ? kClear : kNotice};
     }
-    return {fmt::format("robot: no response ({:.1f} s)", t - result.cue_time), kNotice};
+    return {fmt::format("robot: none yet (+{:.1f} s)", t - result.cue_time), kNotice};
   }
   return {"robot: -", kNeutral};
 }

@@ -137,7 +137,7 @@ TEST(EpisodeVideo, TheBandSaysWhatHappensAtTheStep) {
   EXPECT_EQ(early[0][0].text, "t 0.60 s");
   EXPECT_EQ(early[0][1].text, "person: offer.hold_stable");
   EXPECT_EQ(early[0][2].text, "cue offer_ready 0.50 s");
-  EXPECT_EQ(early[0][3].text, "robot: no response (0.1 s)");
+  EXPECT_EQ(early[0][3].text, "robot: none yet (+0.1 s)");
   const double s_p = eval::protective_separation(0.5, 0.2, c);
   EXPECT_EQ(early[1][0].text, fmt::format("d 0.20 m   S_p {:.2f} m", s_p));
   EXPECT_EQ(early[1][1].text, "no contact");
