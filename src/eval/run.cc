@@ -1,7 +1,6 @@
 #include "eval/run.h"
 
 #include <atomic>
-#include <cctype>
 #include <chrono>
 #include <exception>
 #include <fstream>
@@ -14,6 +13,7 @@
 
 #include "core/errors.h"
 #include "core/files.h"
+#include "eval/episode_files.h"
 #include "eval/metrics.h"
 #include "eval/parallel.h"
 #include "eval/task_episode.h"
@@ -35,15 +35,9 @@ struct Job {
 // The policies of one worker thread: one instance per reference for the whole run.
 using WorkerPolicies = std::map<std::string, std::unique_ptr<policy::Policy>>;
 
-// The log file of an episode: DIR/logs/TASK__POLICY__SEED__HASH.hlog, with characters a file
-// name should not hold in a policy reference (openpi://host:8000) replaced by '_'.
+// The log file of an episode: DIR/logs/STEM.hlog (eval/episode_files.h).
 fs::path log_path(const fs::path& dir, const Job& job) {
-  std::string name = job.spec->task + "__" + job.policy + "__" + std::to_string(job.spec->seed) +
-                     "__" + job.hash.substr(0, 12) + ".hlog";
-  for (char& c : name) {
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
-  }
-  return dir / "logs" / name;
+  return log_file(dir, episode_stem(job.spec->task, job.policy, job.spec->seed, job.hash));
 }
 
 // One episode; trouble (a scene the model cannot build, any exception) -> invalid with reason.
@@ -136,10 +130,11 @@ std::vector<EpisodeResult> prepare_out(const RunSettings& s, const nlohmann::jso
                        fs::exists(dir / "results.json");
   if (has_run && s.force) {
     for (const char* name : {"options.json", "episodes.jsonl", "results.json", "summary.md",
-                             "summary.csv"}) {
+                             "summary.csv", "report.html"}) {
       fs::remove(dir / name);
     }
     fs::remove_all(dir / "logs");
+    fs::remove_all(dir / "replay");
   } else if (has_run && !s.resume) {
     throw core::InputError::Message(
         "--out", out + " already holds a run; use --resume to continue it or --force to replace it");
