@@ -1,6 +1,7 @@
 // `hribench eval --tasks LIST|all --policy LIST --out DIR [...]`: runs every (task, policy,
 // seed) episode, scores it, appends it to DIR/episodes.jsonl as it finishes (so --resume loses
-// nothing), and writes DIR/results.json, summary.md and summary.csv at the end.
+// nothing), and writes DIR/results.json, summary.md, summary.csv and report.html (docs/report.md)
+// at the end.
 // DIR/options.json records the options that change results; another run's folder is refused
 // unless --resume (same options; or more --episodes, which extends the run with the next
 // seeds) or --force, and an episode pool's folder is refused outright.
@@ -67,8 +68,10 @@ int run_eval(const gen::EvalRequest& o) {
     }
   }
   std::fputs(eval::summary_markdown(run, eval::SummaryFor::kTerminal).c_str(), stdout);
-  std::fprintf(stdout, "\nThe metric constants and per-episode results: %s/summary.md, %s/results.json\n",
-               o.out.c_str(), o.out.c_str());
+  std::fprintf(stdout,
+               "\nThe metric constants and per-episode results: %s/summary.md, %s/results.json; the report "
+               "page: %s/report.html\n",
+               o.out.c_str(), o.out.c_str(), o.out.c_str());
   return 0;
 }
 
