@@ -73,6 +73,21 @@ try {
     assert.ok(changed > 0.01 * full.width * full.height, `${category}: ${changed} pixels of ${full.width}x${full.height}`);
   }
   assert.equal(changedPixels(full, await shot()), 0, 'shown again, the same picture');
+
+  // The controls: play moves time on, pause stops it; the scrubber and an event marker seek.
+  await page.evaluate(() => hribenchReplay.seek(0));
+  await page.click('#play');
+  await page.waitForFunction(() => hribenchReplay.time() > 0.2, null, { timeout: 20000 });
+  await page.click('#play');
+  const paused = await page.evaluate(() => hribenchReplay.time());
+  await page.waitForTimeout(300);
+  assert.equal(await page.evaluate(() => hribenchReplay.time()), paused);
+  await page.locator('#scrub').fill(String(last));
+  assert.ok(Math.abs(await page.evaluate(() => hribenchReplay.time()) - steps.time[last]) < 1e-3);
+  const marker = page.locator('.marker.cue').first();
+  const cueTime = Number((await marker.getAttribute('title')).split(' s:')[0]);
+  await marker.click();
+  assert.ok(Math.abs(await page.evaluate(() => hribenchReplay.time()) - cueTime) <= 0.025 + 1e-9);
   assert.deepEqual(problems, []);
   docPicture('replay.png', await page.screenshot({ type: 'png' }));
   console.log(`replay page: ${(fs.statSync(file).size / 1e6).toFixed(2)} MB for ${steps.time.length} steps, test ${elapsed(start)}`);
