@@ -546,6 +546,7 @@ window.hribenchReplay = {
   duration: () => duration,
   frames: () => frames,
   endEffectorPosition: () => { tcp.updateWorldMatrix(true, false); return new THREE.Vector3().setFromMatrixPosition(tcp.matrixWorld).toArray(); },
+  contactPoints: () => markers.filter((m) => m.visible).map((m) => m.position.toArray()),
   setVisible: (category, on) => { for (const g of categories[category]) g.visible = on; draw(); },
   play,
   pause,

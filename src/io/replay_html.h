@@ -15,11 +15,13 @@
 // base64. A 30 s episode's page is about 1.5 MB (1.1 MB of it three.js).
 //
 // For tests and scripts the page sets window.hribenchReplay = {ready, seek(t), time(),
-// duration(), frames(), endEffectorPosition(), setVisible(category, on), play(), pause()}:
+// duration(), frames(), endEffectorPosition(), contactPoints(), setVisible(category, on), play(),
+// pause()}:
 // seek shows the step nearest t (s) and draws it before returning; endEffectorPosition() is
 // the world position [x, y, z] (m) of the TCP as drawn (the hand body's pose and the TCP
-// site's offset: the log's X_WT within the quantisation, < 1 mm); categories are "robot",
-// "human", "object" and "scene".
+// site's offset: the log's X_WT within the quantisation, < 1 mm); contactPoints() the world
+// positions [[x, y, z], ...] of the robot's contacts highlighted at the shown step;
+// categories are "robot", "human", "object" and "scene".
 
 #include <filesystem>
 #include <string>

@@ -15,7 +15,8 @@ import { chromium, decodePng, docPicture, elapsed, hribench, makeRun, openPage, 
 function logSteps(file) {
   const pythonPath = process.env.HRIBENCH_PYTHONPATH || path.join(root, 'build', 'python');
   const script = 'import hribench, json, sys; l = hribench.load_log(sys.argv[1]); ' +
-                 'print(json.dumps({"time": l["time"].tolist(), "tcp": l["tcp_pose"][:, :3].tolist()}))';
+                 'print(json.dumps({"time": l["time"].tolist(), "tcp": l["tcp_pose"][:, :3].tolist(), ' +
+                 '"contact_steps": sorted(set(l["contacts"]["step"].tolist()))}))';
   const result = spawnSync('/usr/bin/python3', ['-c', script, file], {
     encoding: 'utf8', env: { ...process.env, PYTHONPATH: pythonPath } });
   if (result.status !== 0) {
@@ -59,6 +60,14 @@ try {
     const error = Math.hypot(...position.map((v, i) => v - steps.tcp[k][i]));
     assert.ok(error < 2e-3, `step ${k}: the page's end-effector ${position} is ${error} m from the log's ${steps.tcp[k]}`);
   }
+
+  // Contact points: none at the start (the robot at home), some while the oracle holds the object.
+  assert.ok(steps.contact_steps.length > 0, 'the oracle grasps');
+  assert.equal((await page.evaluate((t) => { hribenchReplay.seek(t); return hribenchReplay.contactPoints(); }, steps.time[0])).length, 0);
+  const held = steps.contact_steps[Math.floor(steps.contact_steps.length / 2)];
+  const points = await page.evaluate((t) => { hribenchReplay.seek(t); return hribenchReplay.contactPoints(); }, steps.time[held]);
+  assert.ok(points.length > 0, `contact points at step ${held}`);
+  for (const p of points) assert.ok(Math.hypot(...p.map((v, i) => v - steps.tcp[held][i])) < 0.15, `a contact ${p} by the hand`);
 
   // Robot and person pixels: what changes when each is hidden.
   await page.evaluate((t) => hribenchReplay.seek(t), steps.time[Math.floor(last / 2)]);
