@@ -356,7 +356,7 @@ std::string timeline_chart(const ReportTimeline& t, const MetricConstants& c) {
   const double height = force_top + force_height + 30;
   std::string svg = fmt::format(
       "<svg id=\"timeline\" class=\"chart\" xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\">\n",
-      px(left + plot_width + 20), px(height));
+      px(left + plot_width + 70), px(height));
   // Time grid, one line a second (every 5 s past 20 s).
   const double tick = end - start > 20 ? 5 : 1;
   for (double s = std::ceil(start); s <= end + 1e-9; s += tick) {
@@ -393,6 +393,15 @@ std::string timeline_chart(const ReportTimeline& t, const MetricConstants& c) {
           "<path class=\"cue\" d=\"M{} {}l6 9l-6 9l-6 -9z\" fill=\"{}\"><title>cue {} at {:.2f} s</title></path>"
           "<text x=\"{}\" y=\"{}\">{}</text>\n",
           px(cx), px(cue_top + 2), kHumanColour, escape(e.name), e.time, px(cx + 8), px(cue_top + 16), escape(e.name));
+    } else if (e.kind == EventKind::kActEnd && e.actor == Actor::kRobot) {
+      // A robot act's goal first held (the log has no start for it: onsets are detected by the
+      // metrics, docs/metrics.md).
+      const double cx = x(e.time);
+      svg += fmt::format(
+          "<path class=\"goal robot\" d=\"M{} {}l6 9l-6 9l-6 -9z\" fill=\"{}\"><title>robot act {} at {:.2f} "
+          "s</title></path><text class=\"small\" x=\"{}\" y=\"{}\">{}</text>\n",
+          px(cx), px(robot_top + 2), kRobotColour, escape(e.name), e.time, px(cx + 7), px(robot_top + 15),
+          escape(e.name.ends_with(".end") ? e.name.substr(0, e.name.size() - 4) : e.name));
     } else if (e.kind == EventKind::kContactBegin || e.kind == EventKind::kWarning) {
       const bool contact = e.kind == EventKind::kContactBegin;
       svg += fmt::format(
@@ -469,7 +478,7 @@ std::string timeline_section(const ReportTimeline* t, const MetricConstants& c) 
   const EpisodeLog& log = t->log;
   html += fmt::format(
       "<p><b>{}</b> ({}): {} seed {}, policy {}, {:.2f} s, status {}{}. Lanes: the human's acts and cues, the "
-      "robot's acts, contacts (ticks) and warnings (red ticks); separation d(t) (blue) against the protective "
+      "robot's acts (diamonds: the moment an act's goal first held), contacts (ticks) and warnings (red ticks); separation d(t) (blue) against the protective "
       "distance S<sub>p</sub>(t) (red), shaded where d &lt; S<sub>p</sub> within {:.1f} m (docs/metrics.md, "
       "HCS); contact forces on the human (red) and on everything else (brown).</p>\n",
       escape(t->stem), escape(t->chosen_because), escape(log.task), log.seed, escape(log.policy), log.duration(),
@@ -488,7 +497,7 @@ small{color:#777}.legend span{margin-right:14px;white-space:nowrap}
 svg.chart{display:block;margin:6px 0 12px;font-size:11px;overflow:visible}svg text{fill:#333}
 .grid{stroke:#e6e6e6}.interval{stroke:#222;stroke-width:1.2;fill:none}.median{stroke:#222;stroke-width:2}
 .frame{fill:none;stroke:#ccc}.violation{fill:#e15759;opacity:.15}.in-bar{fill:#fff;font-size:10px}
-.provenance{color:#666;font-size:12px}
+.provenance{color:#666;font-size:12px}text.small{font-size:10px}
 )";
 
 }  // namespace

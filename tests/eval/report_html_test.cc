@@ -41,6 +41,7 @@ SampleRun sample_run() {
         .event(1.0, "stop.stroke", EventKind::kCue)
         .event(2.0, "stop.end", EventKind::kActEnd)
         .event(2.5, "place.start", EventKind::kActStart, Actor::kRobot)
+        .event(4.0, "place.end", EventKind::kActEnd, Actor::kRobot)
         .separation(0.0, 5.0, 0.6 - 0.1 * i, 0.2, 0.2);
     if (oracle) b.predicate("success", 3.0, 5.0);
     EpisodeLog log = b.log();
@@ -114,6 +115,7 @@ TEST(ReportHtml, TimelineLanesOfTheEpisode) {
   const std::string html = report_html(s.run, std::vector<EpisodeFiles>(4), &timeline);
   EXPECT_EQ(count_in(html, "<svg id=\"timeline\"", "class=\"act human\""), 1);
   EXPECT_EQ(count_in(html, "<svg id=\"timeline\"", "class=\"act robot\""), 1);
+  EXPECT_EQ(count_in(html, "<svg id=\"timeline\"", "class=\"goal robot\""), 1);
   EXPECT_EQ(count_in(html, "<svg id=\"timeline\"", "class=\"cue\""), 1);
   EXPECT_EQ(count_in(html, "<svg id=\"timeline\"", "class=\"separation\""), 1);
   EXPECT_EQ(count_in(html, "<svg id=\"timeline\"", "class=\"protective\""), 1);
