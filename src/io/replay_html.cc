@@ -282,7 +282,7 @@ body{{margin:0;font:13px/1.4 system-ui,sans-serif;color:#222;background:#f4f5f7}
 header{{padding:8px 14px}}h1{{font-size:16px;margin:0}}
 #view{{position:relative;height:62vh;min-height:320px;background:#dfe5ec;cursor:grab}}
 #view canvas{{display:block}}
-#hud{{position:absolute;left:10px;top:10px;background:rgba(255,255,255,.88);padding:6px 9px;border-radius:4px;max-width:46%}}
+#hud{{position:absolute;left:10px;bottom:10px;background:rgba(255,255,255,.88);padding:6px 9px;border-radius:4px;max-width:46%}}
 #separation{{display:inline-block;padding:1px 6px;border-radius:3px;color:#fff;background:#888}}
 #controls{{display:flex;gap:8px;align-items:center;padding:8px 14px}}
 #controls input[type=range]{{flex:1}}
@@ -396,7 +396,7 @@ for (const [f, part, other, kind, force] of D.contacts) {
 }
 
 // Orbit camera: drag turns, wheel zooms, shift-drag pans.
-const orbit = {target: new THREE.Vector3(0.6, 0, 0.95), azimuth: -1.05, elevation: 0.42, distance: 2.7};
+const orbit = {target: new THREE.Vector3(0.6, 0, 0.95), azimuth: -1.05, elevation: 0.42, distance: 2.3};
 function placeCamera() {
   const c = Math.cos(orbit.elevation);
   camera.position.set(orbit.target.x + orbit.distance * c * Math.cos(orbit.azimuth),

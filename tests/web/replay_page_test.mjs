@@ -98,6 +98,8 @@ try {
   await marker.click();
   assert.ok(Math.abs(await page.evaluate(() => hribenchReplay.time()) - cueTime) <= 0.025 + 1e-9);
   assert.deepEqual(problems, []);
+  // The documentation's frame: the oracle holding the object, its contact points shown.
+  await page.evaluate((t) => hribenchReplay.seek(t), steps.time[held]);
   docPicture('replay.png', await page.screenshot({ type: 'png' }));
   console.log(`replay page: ${(fs.statSync(file).size / 1e6).toFixed(2)} MB for ${steps.time.length} steps, test ${elapsed(start)}`);
 } finally {
