@@ -17,4 +17,4 @@ cd "$root"
   --policy oracle,reactive,blind,noop --threads "$(nproc)" --out "$out/run" --force
 "$build/hribench" render --out "$out/scene.png" --width 640 --height 480
 "$build/hribench" bench --json "$out/bench.json"
-echo "main: wrote $out/run/{results.json,summary.md,summary.csv}, $out/scene.png and $out/bench.json"
+echo "main: wrote $out/run/{results.json,summary.md,summary.csv,report.html}, $out/scene.png and $out/bench.json"

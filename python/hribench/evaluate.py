@@ -53,7 +53,7 @@ def evaluate(policy, tasks="all", *, out, pool=None, split="eval", episodes=None
              name=None, spec=None):
     """Runs `policy` on the tasks' episodes and scores them, writing OUT as `hribench eval`
     does (options.json, episodes.jsonl as episodes finish, results.json, summary.md,
-    summary.csv; logs/ with save_logs); returns the results as rows (load_results(out, dataframe=False)).
+    summary.csv, report.html; logs/ with save_logs); returns the results as rows (load_results(out, dataframe=False)).
 
     policy: an object with spec() -> hribench.PolicySpec (or a dict of its arguments),
     reset(info) and act(obs) -> an action (dim,) or a chunk (n, dim); or a callable obs ->

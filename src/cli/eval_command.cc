@@ -1,6 +1,7 @@
 // `hribench eval --tasks LIST|all --policy LIST --out DIR [...]`: runs every (task, policy,
 // seed) episode, scores it, appends it to DIR/episodes.jsonl as it finishes (so --resume loses
-// nothing), and writes DIR/results.json, summary.md and summary.csv at the end.
+// nothing), and writes DIR/results.json, summary.md, summary.csv and report.html (docs/report.md)
+// at the end.
 // DIR/options.json records the options that change results; another run's folder is refused
 // unless --resume (same options; or more --episodes, which extends the run with the next
 // seeds) or --force, and an episode pool's folder is refused outright.
@@ -27,6 +28,7 @@
 
 #include "cli/command.h"
 #include "core/errors.h"
+#include "eval/episode_files.h"
 #include "eval/report.h"
 #include "eval/run.h"
 #include "gen/evaluation.h"
@@ -52,13 +54,13 @@ void ask_for_videos(const VideoRequest& video, const eval::RunPlan& plan, eval::
   io::EpisodeVideoOptions options;
   options.cameras = io::video_cameras(video.cameras, plan.by_task.front().front(), "--video-cameras");
   options.backend = settings.run_options.render_backend;
-  const std::filesystem::path dir = settings.out / "videos";
+  const std::filesystem::path out = settings.out;
   const bool all = video.which == "all";
-  settings.after_episode = [dir, options, all](const script::EpisodeSpec& spec, const eval::EpisodeLog& log,
+  settings.after_episode = [out, options, all](const script::EpisodeSpec& spec, const eval::EpisodeLog& log,
                                                const eval::EpisodeResult& result, const std::string& stem) {
     if (!all && result.metrics.success) return;
-    std::filesystem::create_directories(dir);
-    io::write_episode_video(spec, log, dir / (stem + ".mp4"), options);
+    std::filesystem::create_directories(eval::video_file(out, stem).parent_path());
+    io::write_episode_video(spec, log, eval::video_file(out, stem), options);
   };
 }
 
@@ -99,8 +101,10 @@ int run_eval(const gen::EvalRequest& o, const VideoRequest& video) {
     }
   }
   std::fputs(eval::summary_markdown(run, eval::SummaryFor::kTerminal).c_str(), stdout);
-  std::fprintf(stdout, "\nThe metric constants and per-episode results: %s/summary.md, %s/results.json\n",
-               o.out.c_str(), o.out.c_str());
+  std::fprintf(stdout,
+               "\nThe metric constants and per-episode results: %s/summary.md, %s/results.json; the report "
+               "page: %s/report.html\n",
+               o.out.c_str(), o.out.c_str(), o.out.c_str());
   return 0;
 }
 

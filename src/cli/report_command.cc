@@ -1,4 +1,4 @@
-// `hribench report DIR... [--by role|task] [--format md|csv|json] [--force]`: one headline table
+// `hribench report DIR... [--by role|task] [--format md|csv|json|html] [--episode STEM] [--force]`: one headline table
 // comparing the runs in the given folders (or results.json files), each labelled by its path,
 // by role group and overall or by task; as Markdown, or every estimate with its interval as CSV
 // or JSON (for programs). Runs that cannot be compared without a
@@ -6,9 +6,13 @@
 // refused with the first difference named, or with --force compared with every difference
 // printed as a warning. A policy in two runs (two checkpoints behind one name, say) is a warning:
 // its rows are told apart by the run's path.
+// --format html (re)writes the report page of one run, RUN/report.html (eval/report_html.h,
+// docs/report.md), with the timeline of --episode STEM (default: the first failed episode with
+// a saved log), linking the videos and replay pages the folder holds now.
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <set>
@@ -21,6 +25,7 @@
 #include "cli/command.h"
 #include "core/errors.h"
 #include "eval/report.h"
+#include "eval/report_html.h"
 
 namespace hribench::cli {
 namespace {
@@ -67,13 +72,28 @@ struct ReportOptions {
   std::vector<std::string> dirs;
   std::string by = "role";
   std::string format = "md";
+  std::string episode;
   bool force = false;
 };
 
 int run_report(const ReportOptions& o) {
   if (o.by != "role" && o.by != "task") throw core::InputError("--by", "role or task", "'" + o.by + "'");
-  if (o.format != "md" && o.format != "csv" && o.format != "json") {
-    throw core::InputError("--format", "md, csv or json", "'" + o.format + "'");
+  if (o.format != "md" && o.format != "csv" && o.format != "json" && o.format != "html") {
+    throw core::InputError("--format", "md, csv, json or html", "'" + o.format + "'");
+  }
+  if (!o.episode.empty() && o.format != "html") {
+    throw core::InputError("--episode", "--format html (the report page's timeline)", "--format " + o.format);
+  }
+  if (o.format == "html") {
+    if (o.dirs.size() != 1) {
+      throw core::InputError("--format html", "one run folder", fmt::format("{} runs", o.dirs.size()));
+    }
+    const std::filesystem::path dir = std::filesystem::is_directory(o.dirs.front())
+                                          ? std::filesystem::path(o.dirs.front())
+                                          : std::filesystem::path(o.dirs.front()).parent_path();
+    const std::filesystem::path page = eval::write_report_html(dir, eval::load_run(o.dirs.front()), o.episode);
+    std::printf("wrote %s\n", page.c_str());
+    return 0;
   }
   const eval::CompareBy by = o.by == "task" ? eval::CompareBy::kTask : eval::CompareBy::kRole;
   const std::vector<std::string>& dirs = o.dirs;
@@ -106,7 +126,11 @@ HRIB_REGISTER_COMMAND("report", "Compare the results of runs (folders written by
                         app.add_option("dirs", o->dirs, "Run folders or results.json files")->required();
                         app.add_option("--by", o->by, "Rows by role group (and overall) or by task: role | task");
                         app.add_option("--format", o->format,
-                                       "md (a table), csv or json (every estimate with its interval)");
+                                       "md (a table), csv or json (every estimate with its interval), or html "
+                                       "(writes RUN/report.html, one run)");
+                        app.add_option("--episode", o->episode,
+                                       "With --format html: the episode whose timeline the page draws (a log "
+                                       "stem of RUN/logs; default: the first failed one with a saved log)");
                         app.add_flag("--force", o->force,
                                      "Compare runs that differ in horizon, seeds, pool, split, latency, "
                                      "version or tasks (each difference is a warning)");

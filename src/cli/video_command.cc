@@ -10,6 +10,7 @@
 
 #include "cli/command.h"
 #include "core/errors.h"
+#include "eval/episode_files.h"
 #include "gen/evaluation.h"
 #include "io/episode_video.h"
 
@@ -48,7 +49,7 @@ int run_video(const VideoOptions& o) {
   options.cameras = io::video_cameras(o.cameras, episode.spec, "--cameras");
   options.backend = render::parse_backend(o.backend);
   const std::filesystem::path out =
-      o.out.empty() ? std::filesystem::path(o.run) / "videos" / (episode.log_file.stem().string() + ".mp4")
+      o.out.empty() ? eval::video_file(o.run, episode.log_file.stem().string())
                     : std::filesystem::path(o.out);
   if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
   io::write_episode_video(episode.spec, episode.log, out, options);

@@ -15,6 +15,7 @@
 #include "core/files.h"
 #include "core/json.h"
 #include "core/version.h"
+#include "eval/report_html.h"
 #include "model/robot.h"
 
 namespace hribench::eval {
@@ -627,6 +628,7 @@ void write_run(const std::filesystem::path& dir, const RunResults& run) {
   core::write_file_atomically(dir / "results.json", results_to_json(run).dump(2) + "\n");
   core::write_file_atomically(dir / "summary.md", summary_markdown(run));
   core::write_file_atomically(dir / "summary.csv", summary_csv(run));
+  write_report_html(dir, run);
 }
 
 RunResults load_run(const std::filesystem::path& path) {

@@ -63,8 +63,9 @@ nlohmann::json aggregates_to_json(const RunResults& run);
 nlohmann::json results_to_json(const RunResults& run);
 RunResults results_from_json(const nlohmann::json& json, const std::string& where);
 
-// Writes DIR/results.json, DIR/summary.md and DIR/summary.csv (DIR is created). Throws
-// core::InputError if a file cannot be written.
+// Writes DIR/results.json, DIR/summary.md, DIR/summary.csv and DIR/report.html (DIR is
+// created; the report links the episode files DIR holds, eval/report_html.h). Throws
+// core::InputError if a file cannot be written or a saved log is corrupt.
 void write_run(const std::filesystem::path& dir, const RunResults& run);
 // Reads DIR/results.json (or the file itself when given a file). Throws core::InputError.
 RunResults load_run(const std::filesystem::path& path);

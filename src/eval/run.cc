@@ -1,7 +1,6 @@
 #include "eval/run.h"
 
 #include <atomic>
-#include <cctype>
 #include <chrono>
 #include <exception>
 #include <fstream>
@@ -15,6 +14,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/log.h"
+#include "eval/episode_files.h"
 #include "eval/metrics.h"
 #include "eval/parallel.h"
 #include "eval/task_episode.h"
@@ -36,8 +36,9 @@ struct Job {
 // The policies of one worker thread: one instance per reference for the whole run.
 using WorkerPolicies = std::map<std::string, std::unique_ptr<policy::Policy>>;
 
+// The log file of an episode: DIR/logs/STEM.hlog (eval/episode_files.h).
 fs::path log_path(const fs::path& dir, const Job& job) {
-  return dir / "logs" / (episode_stem(job.spec->task, job.policy, job.spec->seed, job.hash) + ".hlog");
+  return log_file(dir, episode_stem(job.spec->task, job.policy, job.spec->seed, job.hash));
 }
 
 // One episode; trouble (a scene the model cannot build, any exception) -> invalid with reason.
@@ -140,7 +141,7 @@ std::vector<EpisodeResult> prepare_out(const RunSettings& s, const nlohmann::jso
                        fs::exists(dir / "results.json");
   if (has_run && s.force) {
     for (const char* name : {"options.json", "episodes.jsonl", "results.json", "summary.md",
-                             "summary.csv"}) {
+                             "summary.csv", "report.html"}) {
       fs::remove(dir / name);
     }
     for (const char* folder : {"logs", "videos", "replay"}) fs::remove_all(dir / folder);
@@ -252,16 +253,6 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
   for (const Job& job : all_jobs) run.episodes.push_back(by_key.at(job.key));
   write_run(settings.out, run);
   return run;
-}
-
-std::string episode_stem(std::string_view task, std::string_view policy, uint64_t seed,
-                         std::string_view spec_hash) {
-  std::string stem = std::string(task) + "__" + std::string(policy) + "__" + std::to_string(seed) +
-                     "__" + std::string(spec_hash.substr(0, 12));
-  for (char& c : stem) {
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
-  }
-  return stem;
 }
 
 }  // namespace hribench::eval

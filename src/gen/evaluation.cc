@@ -6,6 +6,7 @@
 #include "core/errors.h"
 #include "core/json.h"
 #include "core/paths.h"
+#include "eval/episode_files.h"
 #include "eval/runner.h"
 #include "eval/script_contract.h"
 #include "eval/shard.h"
@@ -145,26 +146,7 @@ LoggedEpisode load_logged_episode(const std::filesystem::path& run, const std::s
                            "no options.json");
   }
   LoggedEpisode logged;
-  if (episode.size() > 5 && episode.ends_with(".hlog")) {
-    logged.log_file = episode;
-  } else {
-    const fs::path logs = run / "logs";
-    if (!fs::is_directory(logs) || fs::is_empty(logs)) {
-      throw core::InputError::Message(run.string(), "the run saved no episode logs (run eval with --save-logs)");
-    }
-    logged.log_file = logs / (episode + ".hlog");
-    if (!fs::is_regular_file(logged.log_file)) {
-      std::vector<std::string> stems;
-      for (const fs::directory_entry& entry : fs::directory_iterator(logs)) {
-        if (entry.path().extension() == ".hlog") stems.push_back(entry.path().stem().string());
-      }
-      std::sort(stems.begin(), stems.end());
-      std::string some;
-      for (size_t i = 0; i < stems.size() && i < 3; ++i) some += (i ? ", " : "") + stems[i];
-      if (stems.size() > 3) some += ", ... (" + std::to_string(stems.size()) + " in " + logs.string() + ")";
-      throw core::InputError("episode", "the stem of a log of the run (" + some + ")", "'" + episode + "'");
-    }
-  }
+  logged.log_file = eval::find_episode_log(run, episode, "EPISODE");
   logged.log = eval::load_episode_log(logged.log_file);
 
   // The spec the log ran: the pool's episode of that hash, or the task script sampled at its seed.

@@ -55,9 +55,10 @@ struct LoggedEpisode {
 };
 
 // `episode` is a log's stem (TASK__POLICY__SEED__HASH, as RUN/logs/ names it) or the path of a
-// .hlog file. Throws core::InputError: RUN not a run folder (no options.json), no saved logs
-// ("run eval with --save-logs"), an unknown stem (a few that exist are named), a log that does
-// not load, or a spec the run's tasks or pool no longer give (the hashes named).
+// .hlog file (eval::find_episode_log, where "EPISODE"). Throws core::InputError: RUN not a run
+// folder (no options.json), no saved logs ("run eval with --save-logs"), an unknown stem (a few
+// that exist are named), a log that does not load, or a spec the run's tasks or pool no longer
+// give (the hashes named).
 LoggedEpisode load_logged_episode(const std::filesystem::path& run, const std::string& episode);
 
 // plan_evaluation, then eval::run_plan.

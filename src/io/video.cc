@@ -14,6 +14,7 @@ extern "C" {
 #include <array>
 #include <mutex>
 #include <system_error>
+#include <vector>
 
 #include "core/errors.h"
 
@@ -60,6 +61,9 @@ struct VideoWriter::Impl {
   AVFrame* frame = nullptr;
   AVPacket* packet = nullptr;
   SwsContext* scaler = nullptr;
+  // The frame being converted, with room after its last row: swscale's SIMD reads a few bytes
+  // past the end of its source (valgrind shows 16-byte reads at the last pixels).
+  std::vector<uint8_t> padded_rgb;
 
   ~Impl() {
     sws_freeContext(scaler);
@@ -196,7 +200,10 @@ void VideoWriter::add(const render::Image& image) {
                            fmt::format("{}x{}", image.width, image.height));
   int status = av_frame_make_writable(v.frame);
   if (status < 0) v.fail("allocating a frame", status);
-  const uint8_t* source[1] = {image.rgb.data()};
+  constexpr size_t kSwscaleOverread = 64;
+  v.padded_rgb.resize(image.rgb.size() + kSwscaleOverread);
+  std::copy(image.rgb.begin(), image.rgb.end(), v.padded_rgb.begin());
+  const uint8_t* source[1] = {v.padded_rgb.data()};
   const int source_stride[1] = {3 * image.width};
   sws_scale(v.scaler, source, source_stride, 0, v.height, v.frame->data, v.frame->linesize);
   v.frame->pts = v.frames;

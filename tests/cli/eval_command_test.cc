@@ -52,6 +52,7 @@ TEST_F(EvalRunTest, WritesResultsAndSummariesWithEveryEpisode) {
   EXPECT_EQ(results.at("episodes")[1].at("seed"), 4);
   EXPECT_EQ(results.at("episodes")[0].at("policy"), "noop");
   EXPECT_TRUE(fs::exists(fs::path(dir_) / "summary.csv"));
+  EXPECT_TRUE(fs::exists(fs::path(dir_) / "report.html"));
   const std::string summary = read_text(fs::path(dir_) / "summary.md");
   EXPECT_NE(summary.find("noop"), std::string::npos);
   // summary.md is printed without its constants table; the progress line counts to 2 of 2.

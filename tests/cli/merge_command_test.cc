@@ -37,7 +37,7 @@ TEST_F(MergeTest, MergedShardsEqualTheFullRun) {
   const auto r = run_hribench("merge " + out + " " + dir_ + "/s2 " + dir_ + "/s0 " + dir_ + "/s1");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("hribench merge: 3 shards, 8 episodes -> " + out), std::string::npos) << r.output;
-  for (const char* file : {"options.json", "results.json", "summary.md", "summary.csv"}) {
+  for (const char* file : {"options.json", "results.json", "summary.md", "summary.csv", "report.html"}) {
     EXPECT_EQ(read_text(fs::path(out) / file), read_text(fs::path(dir_) / "full" / file)) << file;
   }
   EXPECT_EQ(count_lines(read_text(fs::path(out) / "episodes.jsonl")), 8);

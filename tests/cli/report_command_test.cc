@@ -75,7 +75,27 @@ TEST_F(ReportComparisonTest, ByTaskAsCsvAndJson) {
   const auto bad = run_hribench("report --format xlsx " + dir_ + "/short");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_EQ(count_lines(bad.output), 1) << bad.output;
-  EXPECT_NE(bad.output.find("--format: expected md, csv or json, got 'xlsx'"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("--format: expected md, csv, json or html, got 'xlsx'"), std::string::npos) << bad.output;
+}
+
+// --format html rewrites one run's report page (eval writes it too); its timeline needs logs.
+TEST_F(ReportComparisonTest, HtmlRewritesTheRunsReportPage) {
+  const fs::path page = fs::path(dir_) / "short" / "report.html";
+  ASSERT_TRUE(fs::is_regular_file(page));  // by eval
+  fs::remove(page);
+  const auto html = run_hribench("report --format html " + dir_ + "/short");
+  EXPECT_EQ(html.exit_code, 0) << html.output;
+  EXPECT_EQ(html.output, "wrote " + page.string() + "\n");
+  EXPECT_NE(::hribench::testing::read_text(page).find("No timeline: no episode of this run has a saved log"),
+            std::string::npos);
+  const auto two = run_hribench("report --format html " + dir_ + "/short " + dir_ + "/again");
+  EXPECT_EQ(two.output, "hribench: error: --format html: expected one run folder, got 2 runs\n");
+  const auto episode = run_hribench("report --episode x " + dir_ + "/short");
+  EXPECT_EQ(episode.output,
+            "hribench: error: --episode: expected --format html (the report page's timeline), got --format md\n");
+  const auto unknown = run_hribench("report --format html --episode x " + dir_ + "/short");
+  EXPECT_EQ(unknown.output, "hribench: error: " + dir_ +
+                                "/short: holds no episode logs (logs/*.hlog); run eval with --save-logs to keep them\n");
 }
 
 }  // namespace

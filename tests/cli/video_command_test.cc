@@ -63,7 +63,8 @@ TEST_F(VideoRunTest, TheVideoOfASavedLogIsTheVideoEvalWrote) {
 TEST_F(VideoRunTest, BadRequestsAreOneLine) {
   auto r = run_hribench("video " + *dir_ + " nope");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.output.find("episode: expected the stem of a log of the run (point_pick__noop__"), std::string::npos)
+  EXPECT_NE(r.output.find("EPISODE: expected an episode of " + *dir_ + " (a log stem, e.g. point_pick__noop__"),
+            std::string::npos)
       << r.output;
   r = run_hribench("video " + *dir_ + " " + fs::directory_iterator(fs::path(*dir_) / "videos")->path().stem().string() +
                    " --size 321x240");

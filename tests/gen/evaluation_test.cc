@@ -48,9 +48,11 @@ TEST(LoadLoggedEpisode, NamesWhatIsMissing) {
   fs::create_directories(no_logs);
   fs::copy_file(logged_run() / "options.json", no_logs / "options.json");
   EXPECT_EQ(error_of([&] { load_logged_episode(no_logs, "x"); }),
-            no_logs.string() + ": the run saved no episode logs (run eval with --save-logs)");
+            no_logs.string() + ": holds no episode logs (logs/*.hlog); run eval with --save-logs to keep them");
   const std::string unknown = error_of([&] { load_logged_episode(logged_run(), "point_pick__noop__99"); });
-  EXPECT_EQ(unknown.rfind("episode: expected the stem of a log of the run (point_pick__noop__5__", 0), 0u) << unknown;
+  EXPECT_EQ(unknown.rfind("EPISODE: expected an episode of " + logged_run().string() +
+                              " (a log stem, e.g. point_pick__noop__5__", 0),
+            0u) << unknown;
   EXPECT_NE(unknown.find("got 'point_pick__noop__99'"), std::string::npos) << unknown;
 }
 

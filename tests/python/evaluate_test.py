@@ -53,7 +53,7 @@ def test_a_python_noop_equals_the_cli_noop(tmp_path, run_cli):
     assert sorted(py_files) == sorted(cli_files)
     # Byte for byte, but for the build's git hash in the provenance (the module and the command
     # are two binaries, which an incremental build can leave at different commits).
-    for name in ("options.json", "summary.md", "summary.csv"):
+    for name in ("options.json", "summary.md", "summary.csv", "report.html"):
         assert without_git_hash(py_files[name]) == without_git_hash(cli_files[name]), name
 
 

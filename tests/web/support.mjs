@@ -1,0 +1,140 @@
+// What the browser tests share (tests/web/*_test.mjs, docs/report.md): the tools they need
+// (Node.js, Debian's Chromium, playwright-core from node_modules — a missing one fails the test
+// with what to install, never passes it), a small real run made with the built `hribench`,
+// a page opened from disk that records console errors and every request, and a PNG decoder
+// for screenshots.
+
+import assert from 'node:assert/strict';
+import { spawnSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath, pathToFileURL } from 'node:url';
+import zlib from 'node:zlib';
+
+export const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..');
+export const binary = process.env.HRIBENCH_BINARY || path.join(root, 'build', 'hribench');
+const chromiumPath = process.env.HRIBENCH_CHROMIUM || '/usr/bin/chromium';
+
+function missing(what, install) {
+  console.error(`FAIL: ${what} is missing: ${install}`);
+  process.exit(1);
+}
+
+// playwright-core's chromium, after checking that everything the test needs is installed.
+export async function chromium() {
+  if (!fs.existsSync(chromiumPath)) {
+    missing(`Chromium (${chromiumPath})`, 'install the Debian package chromium (scripts/install-deps.sh)');
+  }
+  if (!fs.existsSync(path.join(root, 'node_modules', 'playwright-core', 'package.json'))) {
+    missing('node_modules/playwright-core', 'run scripts/install-deps.sh (npm ci installs package-lock.json)');
+  }
+  if (!fs.existsSync(binary)) missing(`the hribench command (${binary})`, 'build it (cmake --build build)');
+  const { chromium: browserType } = await import(pathToFileURL(path.join(root, 'node_modules', 'playwright-core', 'index.mjs')));
+  // WebGL without a GPU: Chromium's software renderer (SwiftShader through ANGLE).
+  return browserType.launch({ executablePath: chromiumPath, args: ['--use-angle=swiftshader', '--enable-unsafe-swiftshader'] });
+}
+
+export function hribench(args) {
+  const result = spawnSync(binary, args, { cwd: root, encoding: 'utf8' });
+  if (result.status !== 0) {
+    throw new Error(`hribench ${args.join(' ')} exited ${result.status}:\n${result.stdout}\n${result.stderr}`);
+  }
+  return result.stdout;
+}
+
+// A fresh run in a temporary folder: I1 point_pick with the oracle (succeeds) and noop (fails),
+// one episode each, 15 s horizon, logs saved.
+export function makeRun(name) {
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), `hribench_web_${name}_`));
+  const run = path.join(dir, 'run');
+  hribench(['eval', '--tasks', 'I1', '--policy', 'oracle,noop', '--episodes', '1', '--horizon', '15',
+            '--threads', '2', '--save-logs', '--out', run]);
+  return { dir, run, results: JSON.parse(fs.readFileSync(path.join(run, 'results.json'), 'utf8')) };
+}
+
+// The episode's log stem as eval::episode_stem writes it.
+export function stem(episode) {
+  return `${episode.task}__${episode.policy}__${episode.seed}__${episode.spec_hash.slice(0, 12)}`.replace(/[^A-Za-z0-9_.-]/g, '_');
+}
+
+// Opens `file` in a new page; `problems` collects console errors, page errors and any request
+// that is not the file itself or in-memory (blob:, data:).
+export async function openPage(browser, file, viewport = { width: 1100, height: 800 }) {
+  const page = await browser.newPage({ viewport });
+  const url = pathToFileURL(file).href;
+  const problems = [];
+  page.on('console', (m) => { if (m.type() === 'error') problems.push(`console error: ${m.text()}`); });
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  page.on('request', (r) => {
+    if (r.url() !== url && !r.url().startsWith('blob:') && !r.url().startsWith('data:')) problems.push(`request: ${r.url()}`);
+  });
+  await page.goto(url);
+  return { page, problems };
+}
+
+// RGBA pixels of an 8-bit RGB or RGBA, non-interlaced PNG (what Chromium's screenshots are).
+export function decodePng(buffer) {
+  assert.equal(buffer.subarray(1, 4).toString('latin1'), 'PNG');
+  let at = 8;
+  let width = 0, height = 0, channels = 0;
+  const idat = [];
+  while (at < buffer.length) {
+    const length = buffer.readUInt32BE(at);
+    const type = buffer.subarray(at + 4, at + 8).toString('latin1');
+    const data = buffer.subarray(at + 8, at + 8 + length);
+    if (type === 'IHDR') {
+      width = data.readUInt32BE(0);
+      height = data.readUInt32BE(4);
+      assert.equal(data[8], 8, 'PNG bit depth');
+      assert.equal(data[12], 0, 'PNG interlace');
+      channels = { 2: 3, 6: 4 }[data[9]];
+      assert.ok(channels, `PNG colour type ${data[9]}`);
+    } else if (type === 'IDAT') {
+      idat.push(data);
+    }
+    at += 12 + length;
+  }
+  const raw = zlib.inflateSync(Buffer.concat(idat));
+  const stride = width * channels;
+  const pixels = Buffer.alloc(width * height * 4);
+  let previous = Buffer.alloc(stride);
+  for (let y = 0; y < height; ++y) {
+    const filter = raw[y * (stride + 1)];
+    const line = Buffer.from(raw.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1)));
+    for (let i = 0; i < stride; ++i) {
+      const a = i >= channels ? line[i - channels] : 0;
+      const b = previous[i];
+      const c = i >= channels ? previous[i - channels] : 0;
+      let predictor = 0;
+      if (filter === 1) predictor = a;
+      else if (filter === 2) predictor = b;
+      else if (filter === 3) predictor = (a + b) >> 1;
+      else if (filter === 4) {
+        const p = a + b - c;
+        const pa = Math.abs(p - a), pb = Math.abs(p - b), pc = Math.abs(p - c);
+        predictor = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+      }
+      line[i] = (line[i] + predictor) & 255;
+    }
+    for (let x = 0; x < width; ++x) {
+      for (let k = 0; k < 4; ++k) pixels[(y * width + x) * 4 + k] = k < channels ? line[x * channels + k] : 255;
+    }
+    previous = line;
+  }
+  return { width, height, pixels };
+}
+
+// Writes a screenshot for docs/images when HRIBENCH_DOC_PICTURES names a folder
+// (scripts/render-report-pictures.sh).
+export function docPicture(name, png) {
+  const dir = process.env.HRIBENCH_DOC_PICTURES;
+  if (!dir) return;
+  fs.mkdirSync(dir, { recursive: true });
+  fs.writeFileSync(path.join(dir, name), png);
+  console.log(`wrote ${path.join(dir, name)}`);
+}
+
+export function elapsed(start) {
+  return `${((Date.now() - start) / 1000).toFixed(1)} s`;
+}
