@@ -208,6 +208,14 @@ struct ChunkInfo {
 
 }  // namespace
 
+ParquetColumn make_column(std::string name, ParquetType type, bool list) {
+  ParquetColumn column;
+  column.name = std::move(name);
+  column.type = type;
+  column.list = list;
+  return column;
+}
+
 int64_t ParquetColumn::values() const {
   switch (type) {
     case ParquetType::kInt64:

@@ -42,6 +42,9 @@ struct ParquetColumn {
   int64_t rows() const;
 };
 
+// An empty column of that name and type.
+ParquetColumn make_column(std::string name, ParquetType type, bool list = false);
+
 struct ParquetTable {
   std::vector<ParquetColumn> columns;
   // The file's key-value metadata (e.g. "pandas" for a pandas index, docs/datasets.md).

@@ -82,6 +82,9 @@ class DatasetWriter {
   virtual void discard(std::unique_ptr<EpisodeSink> sink) = 0;
   // Writes the dataset-wide files (meta/info.json, stats, ...) for what is committed.
   virtual void finish() = 0;
+  // The episodes the dataset already held when the writer was opened to resume it (their
+  // EpisodeHeader::spec_hash, in dataset order): the collector skips them. Empty otherwise.
+  virtual std::vector<std::string> existing_episodes() const { return {}; }
 };
 
 }  // namespace hribench::io

@@ -14,26 +14,18 @@ namespace {
 using hribench::testing::error_of;
 using hribench::testing::temp_dir;
 
-ParquetColumn column(std::string name, ParquetType type, bool list = false) {
-  ParquetColumn result;
-  result.name = std::move(name);
-  result.type = type;
-  result.list = list;
-  return result;
-}
-
 // Seven rows of every column type this writer writes, lists of fixed and of varying length
 // (an empty one included), strings with non-ASCII text.
 ParquetTable every_type() {
   ParquetTable table;
-  ParquetColumn index = column("index", ParquetType::kInt64);
-  ParquetColumn time = column("timestamp", ParquetType::kFloat32);
-  ParquetColumn reward = column("reward", ParquetType::kFloat64);
-  ParquetColumn done = column("next.done", ParquetType::kBool);
-  ParquetColumn task = column("task", ParquetType::kString);
-  ParquetColumn state = column("observation.state", ParquetType::kFloat32, true);
-  ParquetColumn tasks = column("tasks", ParquetType::kString, true);
-  ParquetColumn counts = column("count", ParquetType::kInt64, true);
+  ParquetColumn index = make_column("index", ParquetType::kInt64);
+  ParquetColumn time = make_column("timestamp", ParquetType::kFloat32);
+  ParquetColumn reward = make_column("reward", ParquetType::kFloat64);
+  ParquetColumn done = make_column("next.done", ParquetType::kBool);
+  ParquetColumn task = make_column("task", ParquetType::kString);
+  ParquetColumn state = make_column("observation.state", ParquetType::kFloat32, true);
+  ParquetColumn tasks = make_column("tasks", ParquetType::kString, true);
+  ParquetColumn counts = make_column("count", ParquetType::kInt64, true);
   for (int r = 0; r < 7; ++r) {
     index.int64s.push_back(int64_t{1} << (5 * r));
     time.float32s.push_back(static_cast<float>(r) / 20.0f);
@@ -122,7 +114,7 @@ TEST(Parquet, HyparquetAndDuckDBReadEveryTypeValueAndTheMetadata) {
   write_parquet(dir + "/one_group.parquet", table);
   write_parquet(dir + "/three_groups.parquet", table, 3);
   ParquetTable empty = table;
-  for (ParquetColumn& c : empty.columns) c = column(c.name, c.type, c.list);
+  for (ParquetColumn& c : empty.columns) c = make_column(c.name, c.type, c.list);
   write_parquet(dir + "/empty.parquet", empty);
   const nlohmann::json read = hribench::testing::read_with_real_readers(
       {dir + "/one_group.parquet", dir + "/three_groups.parquet", dir + "/empty.parquet"});

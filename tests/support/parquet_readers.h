@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -26,26 +29,20 @@ inline nlohmann::json read_with_real_readers(const std::vector<std::string>& fil
                      "run scripts/install-deps.sh (it installs them from package-lock.json)";
     return nullptr;
   }
+  const std::string json_path =
+      (std::filesystem::path(::testing::TempDir()) / ("hribench_parquet_readers_" +
+                                                      std::to_string(getpid()) + ".json")).string();
   std::string command = "cd '" + root.string() + "' && node tests/datasets/read_parquet.mjs";
   for (const std::string& file : files) command += " '" + file + "'";
-  CommandResult result;
-  {
-    const std::string line = command + " 2>&1";
-    FILE* pipe = popen(line.c_str(), "r");
-    if (pipe == nullptr) {
-      ADD_FAILURE() << "cannot run " << command;
-      return nullptr;
-    }
-    char buffer[65536];
-    size_t n = 0;
-    while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) result.output.append(buffer, n);
-    result.exit_code = pclose(pipe);
-  }
+  const CommandResult result = run_shell("(" + command + " > '" + json_path + "')");
   if (result.exit_code != 0) {
     ADD_FAILURE() << command << " failed:\n" << result.output;
     return nullptr;
   }
-  return nlohmann::json::parse(result.output);
+  std::ifstream in(json_path);
+  nlohmann::json read = nlohmann::json::parse(in);
+  std::filesystem::remove(json_path);
+  return read;
 }
 
 }  // namespace hribench::testing
