@@ -254,11 +254,13 @@ std::vector<std::string> cameras_of(const Json& features) {
   return cameras;
 }
 
-// GR00T's state or action groups: consecutive dimensions whose names share a stem (the name
-// without a trailing index: "joint_3" -> "joint", "q[2]" -> "q") form one [start, end) slice,
-// so the slices cover the vector exactly, in order (docs/datasets.md).
+// GR00T's state or action groups: consecutive dimensions of one group form one [start, end)
+// slice, so the slices cover the vector exactly, in order (docs/datasets.md). A name's group is
+// its GROUP of GROUP.PART (io/recording.h), else the name without a trailing index
+// ("joint_3" -> "joint", "q[2]" -> "q").
 Json modality_groups(const std::vector<std::string>& names) {
   const auto stem = [](const std::string& name) {
+    if (const size_t dot = name.find('.'); dot != std::string::npos && dot > 0) return name.substr(0, dot);
     size_t end = name.size();
     if (end > 0 && name[end - 1] == ']') --end;
     while (end > 0 && std::isdigit(static_cast<unsigned char>(name[end - 1])) != 0) --end;
@@ -305,7 +307,7 @@ struct EpisodeRecord {
   // HRIBench's annotations of the episode (docs/datasets.md).
   std::string task, task_id, role, spec_hash, policy, action_space, status;
   uint64_t seed = 0;
-  int64_t variant = 0;
+  std::string variant;
   bool success = false;
   std::vector<std::string> failure_labels;
   EpisodeStats stats;
@@ -328,7 +330,7 @@ void read_annotations(const Json& json, const std::string& where, EpisodeRecord&
   r.role = core::json_string(core::json_member(json, "role", where), where + ".role");
   r.spec_hash = core::json_string(core::json_member(json, "spec_hash", where), where + ".spec_hash");
   r.seed = core::json_member(json, "seed", where).get<uint64_t>();
-  r.variant = core::json_member(json, "variant", where).get<int64_t>();
+  r.variant = core::json_string(core::json_member(json, "variant", where), where + ".variant");
   r.policy = core::json_string(core::json_member(json, "policy", where), where + ".policy");
   r.action_space =
       core::json_string(core::json_member(json, "action_space", where), where + ".action_space");
@@ -581,23 +583,45 @@ class LeRobotWriter : public DatasetWriter {
     at_least_one(options.data_file_size_mb, "data_file_size_mb");
     at_least_one(options.video_file_size_mb, "video_file_size_mb");
     at_least_one(options.episodes_per_file, "episodes_per_file");
-    const fs::path info = dir_ / "meta/info.json";
-    if (fs::exists(info)) {
-      if (!options.resume) {
-        throw core::InputError(dir_.string(), "a folder without a LeRobot dataset (or resume)",
-                               "one (meta/info.json)");
-      }
-      load();
-      for (const EpisodeRecord& record : episodes_) existing_.push_back(record.spec_hash);
+  }
+
+  void resume(const std::vector<EpisodeHeader>& committed) override {
+    std::lock_guard lock(mutex_);
+    HRIB_CHECK(!opened_) << "resume is called once, before any episode";
+    opened_ = true;
+    if (fs::exists(dir_ / "meta/info.json")) load();
+    if (committed.size() > episodes_.size()) {
+      throw core::InputError(dir_.string(),
+                             fmt::format("the {} episodes the collect committed", committed.size()),
+                             fmt::format("{} in its LeRobot files", episodes_.size()));
     }
+    for (size_t e = 0; e < committed.size(); ++e) {
+      if (committed[e].spec_hash != episodes_[e].spec_hash || committed[e].seed != episodes_[e].seed) {
+        throw core::InputError(dir_.string() + ": episode " + std::to_string(e),
+                               "spec " + committed[e].spec_hash + " seed " + std::to_string(committed[e].seed),
+                               "spec " + episodes_[e].spec_hash + " seed " + std::to_string(episodes_[e].seed));
+      }
+    }
+    // Episodes written after the last one the collector recorded are dropped.
+    if (committed.size() < written_) {
+      if (version_ == LeRobotVersion::kV30) {
+        throw core::InputError(dir_.string(), fmt::format("the {} episodes the collect committed", committed.size()),
+                               fmt::format("{} in written files", written_));
+      }
+      written_ = committed.size();
+    }
+    episodes_.resize(committed.size());
+    if (version_ == LeRobotVersion::kV30 && !features_.is_null()) reload_group();
+    total_frames_ = 0;
+    for (const EpisodeRecord& record : episodes_) total_frames_ += record.length;
     remove_unlisted_files();
-    fs::create_directories(dir_ / "meta");
     if (!features_.is_null()) write_meta();
   }
 
   std::unique_ptr<EpisodeSink> begin_episode(const EpisodeHeader& header) override {
     {
       std::lock_guard lock(mutex_);
+      open_new();
       const Json features = features_of(header);
       if (features_.is_null()) {
         features_ = features;
@@ -606,13 +630,19 @@ class LeRobotWriter : public DatasetWriter {
       } else if (features != features_ || header.fps != fps_ || header.robot != robot_) {
         std::string got = fmt::format("fps {}, robot {}", header.fps, header.robot);
         for (const auto& [key, feature] : features.items()) {
-          if (!features_.contains(key) || features_[key] != feature) {
-            got = "feature " + key + " " + feature.dump();
+          if (!features_.contains(key)) {
+            got = "a new feature " + key;
+            break;
+          }
+          if (features_[key] != feature) {
+            got = features_[key].at("shape") != feature.at("shape")
+                      ? key + " of shape " + feature.at("shape").dump()
+                      : "other names or video info of " + key;
             break;
           }
         }
         for (const auto& [key, feature] : features_.items()) {
-          if (!features.contains(key)) got = "no feature " + key;
+          if (!features.contains(key) && got.rfind("fps ", 0) == 0) got = "no feature " + key;
         }
         throw core::InputError(
             "episode (task " + header.task + ", spec " + header.spec_hash + ")",
@@ -627,6 +657,7 @@ class LeRobotWriter : public DatasetWriter {
 
   void commit(std::unique_ptr<EpisodeSink> sink_in, const EpisodeOutcome& outcome) override {
     usable();
+    HRIB_CHECK(opened_) << "commit of an episode begun by this writer";
     auto& sink = dynamic_cast<LeRobotSink&>(*sink_in);
     if (sink.rows == 0 || outcome.frames != sink.rows) {
       throw core::InputError(sink.where(),
@@ -677,23 +708,24 @@ class LeRobotWriter : public DatasetWriter {
         full = full || (!group_.episodes.empty() &&
                         group_.video_bytes[c] + video_bytes[c] > options_.video_file_size_mb << 20);
       }
-      if (full) close_group();
-      record.group = group_number_;
-      record.from_timestamp = static_cast<double>(group_.frames) / fps_;
-      append_rows(group_.table, table);
-      group_.data_bytes += estimated_bytes(table);
-      group_.video_bytes.resize(sink.video_paths.size(), 0);
-      group_.segments.resize(sink.video_paths.size());
+      // A full group closes when the next episode comes (or at finish), so a written group
+      // holds only episodes the collector has recorded as committed (resume).
+      if (full || static_cast<int64_t>(group_.episodes.size()) >= options_.episodes_per_file) close_group();
+      if (!fs::exists(dir_ / "meta/info.json")) write_meta();  // the dataset exists from now on
+      // The episode waits in DIR/.staging/ (its rows, mp4s and record, the record last) until
+      // its group is written.
+      write_table(staged_name(record.index, "parquet"), table);
+      std::vector<fs::path> staged;
       for (size_t c = 0; c < sink.video_paths.size(); ++c) {
-        group_.segments[c].push_back(sink.video_paths[c]);
-        group_.video_bytes[c] += video_bytes[c];
+        staged.push_back(dir_ / staged_name(record.index, sink.header.cameras[c].name + ".mp4"));
+        fs::rename(sink.video_paths[c], staged.back());
       }
       sink.placed = true;
-      group_.episodes.push_back(sink.rows);
-      group_.frames += sink.rows;
+      core::write_file_atomically(dir_ / staged_name(record.index, "json"),
+                                  Json{{"episode", record_json(record)}, {"tasks", tasks_}}.dump() + "\n");
+      add_to_group(record, table, staged);
       episodes_.push_back(std::move(record));
       total_frames_ += sink.rows;
-      if (static_cast<int64_t>(group_.episodes.size()) >= options_.episodes_per_file) close_group();
     }
     broken_ = false;
   }
@@ -702,6 +734,10 @@ class LeRobotWriter : public DatasetWriter {
 
   void finish() override {
     usable();
+    {
+      std::lock_guard lock(mutex_);
+      open_new();
+    }
     broken_ = true;
     if (!group_.episodes.empty()) close_group();
     if (!features_.is_null()) write_meta();
@@ -709,8 +745,6 @@ class LeRobotWriter : public DatasetWriter {
     fs::remove_all(staging(), ignored);
     broken_ = false;
   }
-
-  std::vector<std::string> existing_episodes() const override { return existing_; }
 
  private:
   struct FileGroup {  // v3.0: the open data parquet and mp4s
@@ -723,6 +757,70 @@ class LeRobotWriter : public DatasetWriter {
   };
 
   fs::path staging() const { return dir_ / ".staging"; }
+  // v3.0: a committed episode's file in the staging folder until its group is written.
+  static std::string staged_name(int64_t episode, const std::string& what) {
+    return fmt::format(".staging/committed-{:06d}.{}", episode, what);
+  }
+
+  // The first use of a writer not resumed: the folder must not hold a dataset (mutex_ held).
+  void open_new() {
+    if (opened_) return;
+    if (fs::exists(dir_ / "meta/info.json")) {
+      throw core::InputError(dir_.string(), "a folder without a LeRobot dataset (or resume)",
+                             "one (meta/info.json)");
+    }
+    opened_ = true;
+    remove_unlisted_files();
+  }
+
+  void add_to_group(EpisodeRecord& record, const ParquetTable& table, const std::vector<fs::path>& staged) {
+    record.group = group_number_;
+    record.from_timestamp = static_cast<double>(group_.frames) / fps_;
+    append_rows(group_.table, table);
+    group_.data_bytes += estimated_bytes(table);
+    group_.video_bytes.resize(staged.size(), 0);
+    group_.segments.resize(staged.size());
+    for (size_t c = 0; c < staged.size(); ++c) {
+      group_.segments[c].push_back(staged[c]);
+      group_.video_bytes[c] += static_cast<int64_t>(fs::file_size(staged[c]));
+    }
+    group_.episodes.push_back(record.length);
+    group_.frames += record.length;
+  }
+
+  // v3.0, resume: the open group again, of the staged episodes kept.
+  void reload_group() {
+    group_ = FileGroup{};
+    const std::vector<std::string> cameras = cameras_of(features_);
+    for (size_t e = written_; e < episodes_.size(); ++e) {
+      const auto index = static_cast<int64_t>(e);
+      std::vector<fs::path> staged;
+      for (const std::string& camera : cameras) staged.push_back(dir_ / staged_name(index, camera + ".mp4"));
+      add_to_group(episodes_[e], read_parquet(dir_ / staged_name(index, "parquet")), staged);
+    }
+  }
+
+  // An episode's line of v2.1's episodes.jsonl with its stats (v3.0's staged record).
+  Json record_json(const EpisodeRecord& r) const {
+    return {{"episode_index", r.index},
+            {"tasks", {r.instruction}},
+            {"length", r.length},
+            {"hribench", annotations_json(r)},
+            {"stats", episode_stats_json(r)}};
+  }
+
+  EpisodeRecord record_from_json(const Json& line, const Json& stats, const std::string& where) const {
+    EpisodeRecord r;
+    r.index = static_cast<int64_t>(episodes_.size());
+    if (core::json_member(line, "episode_index", where) != r.index) {
+      throw core::InputError(where, "episode_index " + std::to_string(r.index), line.dump());
+    }
+    r.length = core::json_member(line, "length", where).get<int64_t>();
+    r.instruction = core::json_member(line, "tasks", where).at(0).get<std::string>();
+    read_annotations(core::json_member(line, "hribench", where), where, r);
+    for (const auto& [key, value] : stats.items()) r.stats[key] = stats_from_json(value, where + " stats " + key);
+    return r;
+  }
 
   void usable() const {
     if (broken_) {
@@ -806,17 +904,23 @@ class LeRobotWriter : public DatasetWriter {
       fs::create_directories(target.parent_path());
       concatenate_videos(group_.segments[c], group_.episodes, target, fps_);
     }
+    const size_t first = written_;
+    written_ = episodes_.size();
+    write_meta();
     for (const auto& segments : group_.segments) {
       for (const fs::path& segment : segments) fs::remove(segment);
     }
-    written_ = episodes_.size();
-    write_meta();
+    for (size_t e = first; e < written_; ++e) {
+      fs::remove(dir_ / staged_name(static_cast<int64_t>(e), "parquet"));
+      fs::remove(dir_ / staged_name(static_cast<int64_t>(e), "json"));
+    }
     group_ = FileGroup{};
     ++group_number_;
   }
 
   // --- Meta files, each written atomically; info.json last.
   void write_meta() {
+    fs::create_directories(dir_ / "meta");
     const auto write = [&](const std::string& name, const std::string& text) {
       core::write_file_atomically(dir_ / "meta" / name, text);
     };
@@ -837,10 +941,9 @@ class LeRobotWriter : public DatasetWriter {
       std::string episodes_text, stats_text, tasks_text;
       for (size_t e = 0; e < written_; ++e) {
         const EpisodeRecord& r = episodes_[e];
-        episodes_text += Json{{"episode_index", r.index},
-                              {"tasks", {r.instruction}},
-                              {"length", r.length},
-                              {"hribench", annotations_json(r)}}.dump() + "\n";
+        Json line = record_json(r);
+        line.erase("stats");
+        episodes_text += line.dump() + "\n";
         stats_text += Json{{"episode_index", r.index}, {"stats", episode_stats_json(r)}}.dump() + "\n";
       }
       for (size_t t = 0; t < tasks_.size(); ++t) {
@@ -912,7 +1015,7 @@ class LeRobotWriter : public DatasetWriter {
       text[key] = make_column(std::string("hribench/") + key, ParquetType::kString);
     }
     ParquetColumn seed = make_column("hribench/seed", ParquetType::kInt64);
-    ParquetColumn variant = make_column("hribench/variant", ParquetType::kInt64);
+    ParquetColumn variant = make_column("hribench/variant", ParquetType::kString);
     ParquetColumn success = make_column("hribench/success", ParquetType::kBool);
     ParquetColumn labels = make_column("hribench/failure_labels", ParquetType::kString, true);
     std::map<std::string, std::array<ParquetColumn, 5>> stats;
@@ -941,7 +1044,7 @@ class LeRobotWriter : public DatasetWriter {
         text[key].strings.push_back(value);
       }
       seed.int64s.push_back(static_cast<int64_t>(r.seed));  // the uint64's bits
-      variant.int64s.push_back(r.variant);
+      variant.strings.push_back(r.variant);
       success.bools.push_back(r.success);
       labels.strings.insert(labels.strings.end(), r.failure_labels.begin(), r.failure_labels.end());
       labels.list_lengths.push_back(static_cast<int64_t>(r.failure_labels.size()));
@@ -1033,8 +1136,30 @@ class LeRobotWriter : public DatasetWriter {
     } else {
       load_v30();
     }
-    for (const EpisodeRecord& record : episodes_) total_frames_ += record.length;
     written_ = episodes_.size();
+    if (version_ == LeRobotVersion::kV30) load_staged();
+  }
+
+  // v3.0: the committed episodes waiting in the staging folder, in order, each complete (its
+  // record, written last, present).
+  void load_staged() {
+    int64_t rows = 0;
+    for (const EpisodeRecord& r : episodes_) rows += r.length;
+    while (true) {
+      const auto index = static_cast<int64_t>(episodes_.size());
+      const fs::path record_path = dir_ / staged_name(index, "json");
+      if (!fs::exists(record_path)) break;
+      const Json staged = core::read_json_file(record_path.string());
+      const std::string where = record_path.string();
+      EpisodeRecord r = record_from_json(core::json_member(staged, "episode", where),
+                                         core::json_member(core::json_member(staged, "episode", where), "stats", where),
+                                         where);
+      for (const Json& task : core::json_member(staged, "tasks", where)) task_index_of(task.get<std::string>());
+      r.from_index = rows;
+      rows += r.length;
+      episodes_.push_back(std::move(r));
+    }
+    reload_group();
   }
 
   std::vector<Json> read_lines(const std::string& name) const {
@@ -1057,19 +1182,10 @@ class LeRobotWriter : public DatasetWriter {
     int64_t rows = 0;
     for (const Json& line : read_lines("episodes.jsonl")) {
       const std::string where = fmt::format("meta/episodes.jsonl episode {}", episodes_.size());
-      EpisodeRecord r;
-      r.index = static_cast<int64_t>(episodes_.size());
-      if (core::json_member(line, "episode_index", where) != r.index || stats.size() <= episodes_.size()) {
-        throw core::InputError(where, "episodes numbered 0, 1, ... with their stats", line.dump());
-      }
-      r.length = core::json_member(line, "length", where).get<int64_t>();
-      r.instruction = core::json_member(line, "tasks", where).at(0).get<std::string>();
-      read_annotations(core::json_member(line, "hribench", where), where, r);
+      if (stats.size() <= episodes_.size()) throw core::InputError(where, "its stats", "none");
+      EpisodeRecord r = record_from_json(line, core::json_member(stats[episodes_.size()], "stats", where), where);
       r.from_index = rows;
       rows += r.length;
-      for (const auto& [key, value] : core::json_member(stats[episodes_.size()], "stats", where).items()) {
-        r.stats[key] = stats_from_json(value, where + " stats " + key);
-      }
       episodes_.push_back(std::move(r));
     }
   }
@@ -1086,11 +1202,12 @@ class LeRobotWriter : public DatasetWriter {
     const auto texts = [&](const std::string& name) { return column_of(table, name, where).strings; };
     const std::vector<int64_t> length = ints("length"), chunk = ints("data/chunk_index"),
                                file = ints("data/file_index"), from = ints("dataset_from_index"),
-                               seed = ints("hribench/seed"), variant = ints("hribench/variant");
+                               seed = ints("hribench/seed");
     const std::vector<std::string> tasks_of = texts("tasks"), task = texts("hribench/task"),
                                    task_id = texts("hribench/task_id"), role = texts("hribench/role"),
                                    spec = texts("hribench/spec_hash"), policy = texts("hribench/policy"),
-                                   space = texts("hribench/action_space"), status = texts("hribench/status");
+                                   space = texts("hribench/action_space"), status = texts("hribench/status"),
+                                   variant = texts("hribench/variant");
     const std::vector<bool> success = column_of(table, "hribench/success", where).bools;
     const ParquetColumn& labels = column_of(table, "hribench/failure_labels", where);
     const std::vector<std::string> cameras = cameras_of(features_);
@@ -1148,18 +1265,22 @@ class LeRobotWriter : public DatasetWriter {
   void remove_unlisted_files() {
     std::set<fs::path> listed;
     const std::vector<std::string> cameras = features_.is_null() ? std::vector<std::string>{} : cameras_of(features_);
-    for (const EpisodeRecord& r : episodes_) {
+    for (size_t e = 0; e < episodes_.size(); ++e) {
+      const EpisodeRecord& r = episodes_[e];
       if (version_ == LeRobotVersion::kV21) {
         listed.insert(dir_ / episode_data_path(r.index));
         for (const std::string& camera : cameras) listed.insert(dir_ / episode_video_path(r.index, camera));
-      } else {
+      } else if (e < written_) {
         listed.insert(dir_ / group_data_path(r.group));
         for (const std::string& camera : cameras) listed.insert(dir_ / group_video_path(r.group, camera));
+      } else {  // staged
+        for (const std::string& what : {std::string("parquet"), std::string("json")}) {
+          listed.insert(dir_ / staged_name(r.index, what));
+        }
+        for (const std::string& camera : cameras) listed.insert(dir_ / staged_name(r.index, camera + ".mp4"));
       }
     }
-    std::error_code ignored;
-    fs::remove_all(staging(), ignored);
-    for (const char* folder : {"data", "videos"}) {
+    for (const char* folder : {"data", "videos", ".staging"}) {
       if (!fs::exists(dir_ / folder)) continue;
       std::vector<fs::path> unlisted;
       for (const auto& entry : fs::recursive_directory_iterator(dir_ / folder)) {
@@ -1182,10 +1303,10 @@ class LeRobotWriter : public DatasetWriter {
   std::vector<EpisodeRecord> episodes_;  // committed, in order
   size_t written_ = 0;                   // of them, those on disk and in the meta files
   int64_t total_frames_ = 0;             // rows of all committed episodes
-  std::vector<std::string> existing_;
   int64_t group_number_ = 0;  // v3.0: the open group's number
   FileGroup group_;
   bool broken_ = false;
+  bool opened_ = false;  // resume() ran, or a first episode found the folder without a dataset
 };
 
 }  // namespace

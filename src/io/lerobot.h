@@ -7,17 +7,20 @@
 // Crash safety. v2.1: each commit writes the episode's parquet and mp4s, then rewrites every
 // meta file (each one atomically), so after any commit the meta files describe exactly the
 // episodes on disk. v3.0: committed episodes gather in an open "file group" (one data parquet and
-// one mp4 per camera, the episodes' encoded videos re-muxed one after the other, no re-encoding);
-// the group is written, then the meta files, when it would pass data_file_size_mb or
-// video_file_size_mb, when it holds episodes_per_file episodes, and at finish(). Files are never
-// rewritten. A run that stops keeps every episode of the written groups; those of the open group
-// are lost and `--resume` collects them again. An episode in progress (not committed) leaves
-// nothing. Files go to temporary names renamed when complete; the encoders' staging files live in
-// DIR/.staging/ until their episode is placed, and finish() removes the folder.
+// one mp4 per camera, the episodes' encoded videos re-muxed one after the other, no re-encoding).
+// Until the group is written each committed episode waits, complete, in DIR/.staging/ (its rows,
+// its mp4s and its record). A full group (past data_file_size_mb or video_file_size_mb, or
+// holding episodes_per_file episodes) is written, then the meta files, when the next episode is
+// committed, and the last one at finish(); written files are never rewritten. An episode in
+// progress or discarded leaves nothing. Files go to temporary names renamed when complete;
+// finish() removes DIR/.staging/.
 //
-// Resume: LeRobotOptions::resume opens a dataset written with the same version and options,
-// keeps its episodes (existing_episodes() lists them) and appends after them; files on disk that
-// the meta files do not describe (a run stopped between a file and its meta) are removed first.
+// Resume (DatasetWriter::resume, --resume): the writer opens the dataset in `dir` (same version,
+// chunks_size and file sizes, else core::InputError naming meta/info.json's key), checks that its
+// episodes start with the collector's committed ones (spec hash and seed, in order), drops those
+// after them (an episode committed just before the run stopped, not recorded by the collector),
+// removes the files the meta files do not list (a run stopped between a file and its meta) and
+// appends after them. Without resume, the first episode refuses a folder holding a dataset.
 
 #include <cstdint>
 #include <filesystem>
@@ -39,12 +42,10 @@ struct LeRobotOptions {
   int64_t data_file_size_mb = 100;   // v3.0: a data parquet rolls over past this size, >= 1
   int64_t video_file_size_mb = 200;  // v3.0: an mp4 rolls over past this size, >= 1
   int64_t episodes_per_file = 50;    // v3.0: and after this many episodes, >= 1
-  bool resume = false;               // continue the dataset in `dir` (see above)
 };
 
-// A writer of a LeRobot dataset in `dir` (created when missing). Throws core::InputError for
-// options out of range, a `dir` holding a LeRobot dataset without `resume`, or with `resume` one
-// of another version or options (where the meta file, expected / got).
+// A writer of a LeRobot dataset in `dir` (created when missing; nothing is read or written before
+// resume() or the first episode). Throws core::InputError for options out of range.
 //
 // Every episode of a dataset has the same fps, robot, state and action names and cameras (the
 // first one's, or the resumed dataset's features): begin_episode throws core::InputError for

@@ -38,14 +38,14 @@ EpisodeHeader header(int episode) {
   h.instruction = episode % 2 == 0 ? "pick the cube the person points at" : "hand the cup over";
   h.spec_hash = "spec" + std::to_string(episode);
   h.seed = 1000 + static_cast<uint64_t>(episode);
-  h.variant = episode;
+  h.variant = episode % 2 == 0 ? "left" : "";
   h.policy = "oracle";
   h.robot = "panda";
   h.fps = 20;
-  for (int j = 0; j < 7; ++j) h.state_names.push_back("joint_" + std::to_string(j));
-  h.state_names.push_back("gripper");
-  for (int j = 0; j < 6; ++j) h.action_names.push_back("ee_delta_" + std::to_string(j));
-  h.action_names.push_back("gripper");
+  for (int j = 1; j <= 7; ++j) h.state_names.push_back("joint_pos.panda_joint" + std::to_string(j));
+  h.state_names.push_back("gripper.opening");
+  for (const char* part : {"dx", "dy", "dz", "drx", "dry", "drz"}) h.action_names.push_back(std::string("ee_delta.") + part);
+  h.action_names.push_back("gripper.opening");
   h.action_space = "ee_delta";
   h.cameras = {{"agentview", kWidth, kHeight}, {"wrist", kWidth, kHeight}};
   return h;
@@ -278,8 +278,9 @@ void check_modality(const fs::path& dir) {
     }
     EXPECT_EQ(next, size) << group << " slices cover the vector";
   }
-  EXPECT_EQ(modality.at("state").at("joint"), Json({{"start", 0}, {"end", 7}}));
+  EXPECT_EQ(modality.at("state").at("joint_pos"), Json({{"start", 0}, {"end", 7}}));
   EXPECT_EQ(modality.at("state").at("gripper"), Json({{"start", 7}, {"end", 8}}));
+  EXPECT_EQ(modality.at("action").at("ee_delta"), Json({{"start", 0}, {"end", 6}}));
   EXPECT_EQ(modality.at("video").at("wrist").at("original_key"), "observation.images.wrist");
   EXPECT_EQ(modality.at("annotation").at("human.task_description").at("original_key"), "task_index");
   EXPECT_EQ(modality.at("annotation").at("human.act").at("original_key"), "annotation.human.act");
@@ -301,7 +302,7 @@ void check_info(const Json& info, const char* version) {
   EXPECT_EQ(video.at("info").at("video.pix_fmt"), "yuv420p");
   EXPECT_EQ(video.at("info").at("video.fps"), 20);
   EXPECT_EQ(info.at("features").at("observation.state").at("shape"), Json({8}));
-  EXPECT_EQ(info.at("features").at("observation.state").at("names").at(7), "gripper");
+  EXPECT_EQ(info.at("features").at("observation.state").at("names").at(7), "gripper.opening");
   EXPECT_EQ(info.at("features").at("timestamp").at("dtype"), "float32");
   EXPECT_EQ(info.at("features").at("index").at("dtype"), "int64");
 }
@@ -337,7 +338,7 @@ TEST(LeRobot, V21DatasetReadsBackWithTheRealReadersFfprobeAndRecomputedStats) {
   ASSERT_EQ(episodes.size(), 3u);
   EXPECT_EQ(episodes[1], Json::parse(R"({"episode_index":1,"length":7,"tasks":["hand the cup over"],
       "hribench":{"task":"handover","task_id":"H2","role":"collaborator","spec_hash":"spec1","seed":1001,
-      "variant":1,"policy":"oracle","action_space":"ee_delta","success":true,"status":"ok","failure_labels":[]}})"));
+      "variant":"","policy":"oracle","action_space":"ee_delta","success":true,"status":"ok","failure_labels":[]}})"));
   EXPECT_EQ(episodes[2].at("hribench").at("failure_labels"), Json({"timeout"}));
 
   std::vector<std::string> files;
@@ -501,7 +502,7 @@ TEST(LeRobot, V30DatasetHoldsSeveralEpisodesPerFileWithOffsetsTheReadersAgreeWit
   fs::remove_all(dir);
 }
 
-TEST(LeRobot, ResumeKeepsTheCommittedEpisodesAndAppendsAfterThem) {
+TEST(LeRobot, ResumeKeepsTheEpisodesTheCollectorCommittedAndAppendsAfterThem) {
   for (const LeRobotVersion version : {LeRobotVersion::kV21, LeRobotVersion::kV30}) {
     SCOPED_TRACE(std::string(to_string(version)));
     const fs::path dir = temp_dir("lerobot", "resume");
@@ -515,24 +516,36 @@ TEST(LeRobot, ResumeKeepsTheCommittedEpisodesAndAppendsAfterThem) {
       // and a file a run stopped between writing it and its meta
       std::ofstream(dir / "data/chunk-000/stray.parquet") << "x";
     }
+    // On disk: v2.1 both episodes; v3.0 episode 0's file group, episode 1 staged.
     const Json info = core::read_json_file((dir / "meta/info.json").string());
-    EXPECT_EQ(info.at("total_episodes"), 2);
-    EXPECT_EQ(info.at("total_frames"), 12);
-    EXPECT_EQ(error_of([&] { make_lerobot_writer(dir, version, options); }),
+    EXPECT_EQ(info.at("total_episodes"), version == LeRobotVersion::kV21 ? 2 : 1);
+    EXPECT_EQ(error_of([&] { make_lerobot_writer(dir, version, options)->begin_episode(header(2)); }),
               dir.string() + ": expected a folder without a LeRobot dataset (or resume), got one (meta/info.json)");
-    options.resume = true;
     const LeRobotVersion other = version == LeRobotVersion::kV21 ? LeRobotVersion::kV30 : LeRobotVersion::kV21;
-    EXPECT_EQ(error_of([&] { make_lerobot_writer(dir, other, options); }),
+    EXPECT_EQ(error_of([&] { make_lerobot_writer(dir, other, options)->resume({header(0)}); }),
               (dir / "meta/info.json").string() + ": codebase_version: expected \"" +
                   std::string(to_string(other)) + "\", got \"" + std::string(to_string(version)) + "\"");
+    EXPECT_EQ(error_of([&] { make_lerobot_writer(dir, version, options)->resume({header(0), header(1), header(2)}); }),
+              dir.string() + ": expected the 3 episodes the collect committed, got 2 in its LeRobot files");
+    EXPECT_EQ(error_of([&] { make_lerobot_writer(dir, version, options)->resume({header(1)}); }),
+              dir.string() + ": episode 0: expected spec spec1 seed 1001, got spec spec0 seed 1000");
+    {  // the collector recorded only episode 0 (it stopped before noting episode 1): 1 is dropped
+      auto writer = make_lerobot_writer(dir, version, options);
+      writer->resume({header(0)});
+      EXPECT_FALSE(fs::exists(dir / "data/chunk-000/stray.parquet"));
+      EXPECT_FALSE(fs::exists(dir / "data/chunk-000/episode_000001.parquet"));
+      EXPECT_FALSE(fs::exists(dir / ".staging/committed-000001.json"));
+      EXPECT_EQ(core::read_json_file((dir / "meta/info.json").string()).at("total_episodes"), 1);
+      commit(*writer, 1, 7);  // stopped again after committing 1
+    }
     auto writer = make_lerobot_writer(dir, version, options);
-    EXPECT_EQ(writer->existing_episodes(), (std::vector<std::string>{"spec0", "spec1"}));
-    EXPECT_FALSE(fs::exists(dir / "data/chunk-000/stray.parquet"));
+    writer->resume({header(0), header(1)});
     commit(*writer, 2, 4);
     writer->finish();
     const Json after = core::read_json_file((dir / "meta/info.json").string());
     EXPECT_EQ(after.at("total_episodes"), 3);
     EXPECT_EQ(after.at("total_frames"), 16);
+    EXPECT_FALSE(fs::exists(dir / ".staging"));
     const std::string last = version == LeRobotVersion::kV21 ? "data/chunk-000/episode_000002.parquet"
                                                              : "data/chunk-000/file-002.parquet";
     const ParquetTable table = read_parquet(dir / last);
@@ -541,6 +554,14 @@ TEST(LeRobot, ResumeKeepsTheCommittedEpisodesAndAppendsAfterThem) {
     const Json stats = core::read_json_file((dir / "meta/stats.json").string());
     EXPECT_EQ(stats.at("index").at("max"), Json({15.0}));
     EXPECT_EQ(stats.at("index").at("count"), Json({16}));
+    size_t mp4s = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(dir / "videos")) {
+      if (entry.is_regular_file()) {
+        ++mp4s;
+        EXPECT_EQ(entry.path().extension(), ".mp4");
+      }
+    }
+    EXPECT_EQ(mp4s, 6u);
     fs::remove_all(dir);
   }
 }
@@ -576,9 +597,12 @@ TEST(LeRobot, BadFramesAndEpisodesAreInputErrors) {
   commit(*writer, 0, 2);
   EXPECT_EQ(error_of([&] { writer->begin_episode(more); }),
             "episode (task handover, spec spec1): expected the dataset's fps 20, robot panda and features "
-            "(meta/info.json), got feature observation.state {\"dtype\":\"float32\",\"names\":[\"joint_0\","
-            "\"joint_1\",\"joint_2\",\"joint_3\",\"joint_4\",\"joint_5\",\"joint_6\",\"gripper\",\"extra\"],"
-            "\"shape\":[9]}");
+            "(meta/info.json), got observation.state of shape [9]");
+  more = header(1);
+  more.cameras[1].name = "side";
+  EXPECT_EQ(error_of([&] { writer->begin_episode(more); }),
+            "episode (task handover, spec spec1): expected the dataset's fps 20, robot panda and features "
+            "(meta/info.json), got a new feature observation.images.side");
   LeRobotOptions bad;
   bad.chunks_size = 0;
   EXPECT_EQ(error_of([&] { make_lerobot_writer(dir / "other", LeRobotVersion::kV30, bad); }),
