@@ -746,6 +746,66 @@ class LeRobotWriter : public DatasetWriter {
     broken_ = false;
   }
 
+  // The written episodes of the dataset in `dir_` with their rows' vectors (no staged ones).
+  std::vector<LeRobotEpisode> read_back() {
+    if (!fs::exists(dir_ / "meta/info.json")) {
+      throw core::InputError(dir_.string(), "a LeRobot dataset", "no meta/info.json");
+    }
+    load();
+    std::vector<LeRobotEpisode> out;
+    std::map<std::string, ParquetTable> files;
+    for (size_t e = 0; e < written_; ++e) {
+      const EpisodeRecord& r = episodes_[e];
+      LeRobotEpisode episode;
+      episode.index = r.index;
+      episode.instruction = r.instruction;
+      episode.task = r.task;
+      episode.task_id = r.task_id;
+      episode.role = r.role;
+      episode.spec_hash = r.spec_hash;
+      episode.variant = r.variant;
+      episode.policy = r.policy;
+      episode.action_space = r.action_space;
+      episode.status = r.status;
+      episode.seed = r.seed;
+      episode.success = r.success;
+      episode.failure_labels = r.failure_labels;
+      const std::string relative = version_ == LeRobotVersion::kV21 ? episode_data_path(r.index) : group_data_path(r.group);
+      auto it = files.find(relative);
+      if (it == files.end()) it = files.emplace(relative, read_parquet(dir_ / relative)).first;
+      const std::string where = (dir_ / relative).string();
+      const ParquetTable& table = it->second;
+      const std::vector<int64_t>& episode_index = column_of(table, "episode_index", where).int64s;
+      const std::vector<int64_t>& index = column_of(table, "index", where).int64s;
+      const ParquetColumn& state = column_of(table, kState, where);
+      const ParquetColumn& action = column_of(table, kAction, where);
+      const auto state_size = static_cast<size_t>(features_.at(kState).at("shape").at(0).get<int64_t>());
+      const auto action_size = static_cast<size_t>(features_.at(kAction).at("shape").at(0).get<int64_t>());
+      if (state.float32s.size() != index.size() * state_size || action.float32s.size() != index.size() * action_size) {
+        throw core::InputError(where, "state and action vectors of the features' shapes", "others");
+      }
+      for (size_t row = 0; row < index.size(); ++row) {
+        if (episode_index[row] != r.index) continue;
+        if (index[row] != r.from_index + static_cast<int64_t>(episode.actions.size())) {
+          throw core::InputError(where, fmt::format("row index {}", r.from_index + static_cast<int64_t>(episode.actions.size())),
+                                 std::to_string(index[row]));
+        }
+        const auto at = [row](const ParquetColumn& column, size_t size) {
+          return std::vector<float>(column.float32s.begin() + static_cast<std::ptrdiff_t>(row * size),
+                                    column.float32s.begin() + static_cast<std::ptrdiff_t>((row + 1) * size));
+        };
+        episode.states.push_back(at(state, state_size));
+        episode.actions.push_back(at(action, action_size));
+      }
+      if (static_cast<int64_t>(episode.actions.size()) != r.length) {
+        throw core::InputError(where + ": episode " + std::to_string(r.index),
+                               std::to_string(r.length) + " rows", std::to_string(episode.actions.size()));
+      }
+      out.push_back(std::move(episode));
+    }
+    return out;
+  }
+
  private:
   struct FileGroup {  // v3.0: the open data parquet and mp4s
     ParquetTable table;
@@ -1313,6 +1373,24 @@ class LeRobotWriter : public DatasetWriter {
 
 std::string_view to_string(LeRobotVersion version) {
   return version == LeRobotVersion::kV21 ? "v2.1" : "v3.0";
+}
+
+std::vector<LeRobotEpisode> read_lerobot_episodes(const std::filesystem::path& dir) {
+  const std::string info_path = (dir / "meta/info.json").string();
+  if (!fs::exists(info_path)) throw core::InputError(dir.string(), "a LeRobot dataset", "no meta/info.json");
+  const Json info = core::read_json_file(info_path);
+  const std::string version =
+      core::json_string(core::json_member(info, "codebase_version", info_path), info_path + ": codebase_version");
+  if (version != "v2.1" && version != "v3.0") {
+    throw core::InputError(info_path + ": codebase_version", "\"v2.1\" or \"v3.0\"", "\"" + version + "\"");
+  }
+  LeRobotOptions options;
+  options.chunks_size = core::json_member(info, "chunks_size", info_path).get<int64_t>();
+  if (version == "v3.0") {
+    options.data_file_size_mb = core::json_member(info, "data_files_size_in_mb", info_path).get<int64_t>();
+    options.video_file_size_mb = core::json_member(info, "video_files_size_in_mb", info_path).get<int64_t>();
+  }
+  return LeRobotWriter(dir, version == "v2.1" ? LeRobotVersion::kV21 : LeRobotVersion::kV30, options).read_back();
 }
 
 std::unique_ptr<DatasetWriter> make_lerobot_writer(const std::filesystem::path& dir,

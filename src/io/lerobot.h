@@ -25,7 +25,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "io/recording.h"
 #include "io/video.h"
@@ -56,5 +58,23 @@ struct LeRobotOptions {
 std::unique_ptr<DatasetWriter> make_lerobot_writer(const std::filesystem::path& dir,
                                                    LeRobotVersion version,
                                                    const LeRobotOptions& options = {});
+
+// One episode of a LeRobot dataset as read back (for `hribench replay` of a dataset): its
+// HRIBench annotations and its rows' vectors.
+struct LeRobotEpisode {
+  int64_t index = 0;
+  std::string instruction;
+  std::string task, task_id, role, spec_hash, variant, policy, action_space, status;
+  uint64_t seed = 0;
+  bool success = false;
+  std::vector<std::string> failure_labels;
+  std::vector<std::vector<float>> states;   // one per frame (row), observation.state
+  std::vector<std::vector<float>> actions;  // one per frame (row), action
+};
+
+// The episodes of the LeRobot dataset in `dir` (v2.1 or v3.0, as meta/info.json says), in
+// order: those its meta files list. Throws core::InputError for a folder without a dataset,
+// files that are missing or do not hold the listed rows.
+std::vector<LeRobotEpisode> read_lerobot_episodes(const std::filesystem::path& dir);
 
 }  // namespace hribench::io

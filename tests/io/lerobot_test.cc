@@ -554,6 +554,28 @@ TEST(LeRobot, ResumeKeepsTheEpisodesTheCollectorCommittedAndAppendsAfterThem) {
     const Json stats = core::read_json_file((dir / "meta/stats.json").string());
     EXPECT_EQ(stats.at("index").at("max"), Json({15.0}));
     EXPECT_EQ(stats.at("index").at("count"), Json({16}));
+    // The episodes read back for a replay: annotations and every row's vectors.
+    const std::vector<LeRobotEpisode> episodes = read_lerobot_episodes(dir);
+    ASSERT_EQ(episodes.size(), 3u);
+    for (size_t e = 0; e < 3; ++e) {
+      const auto [number, length] = kEpisodes[e];
+      const EpisodeHeader h = header(number);
+      EXPECT_EQ(episodes[e].index, static_cast<int64_t>(e));
+      EXPECT_EQ(episodes[e].spec_hash, h.spec_hash);
+      EXPECT_EQ(episodes[e].seed, h.seed);
+      EXPECT_EQ(episodes[e].task, h.task);
+      EXPECT_EQ(episodes[e].variant, h.variant);
+      EXPECT_EQ(episodes[e].action_space, "ee_delta");
+      EXPECT_EQ(episodes[e].instruction, h.instruction);
+      EXPECT_EQ(episodes[e].success, number != 2);
+      ASSERT_EQ(static_cast<int64_t>(episodes[e].actions.size()), length);
+      for (int64_t i = 0; i < length; ++i) {
+        for (size_t d = 0; d < 7; ++d) EXPECT_EQ(episodes[e].actions[static_cast<size_t>(i)][d], -state_value(number, i, d));
+        EXPECT_EQ(episodes[e].states[static_cast<size_t>(i)][7], state_value(number, i, 7));
+      }
+    }
+    EXPECT_EQ(error_of([&] { read_lerobot_episodes(dir / "nothing"); }),
+              (dir / "nothing").string() + ": expected a LeRobot dataset, got no meta/info.json");
     size_t mp4s = 0;
     for (const auto& entry : fs::recursive_directory_iterator(dir / "videos")) {
       if (entry.is_regular_file()) {
