@@ -47,13 +47,32 @@ std::string av_error(int code) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Statistics (LeRobot's compute_stats.py): per dimension min, max, mean, population std and the
+// Statistics (LeRobot's compute_stats.py): per dimension min, max, mean, population std, the 1st
+// and 99th percentiles (numpy's linear interpolation; GR00T's stats.json requires them) and the
 // frame count; images per channel scaled to [0, 1], written with shape (3, 1, 1).
 
+constexpr size_t kStatCount = 6;
+constexpr std::array<const char*, kStatCount> kStatNames = {"min", "max", "mean", "std", "q01", "q99"};
+
 struct FeatureStats {
-  std::vector<double> min, max, mean, std;
+  std::vector<double> min, max, mean, std, q01, q99;
   int64_t count = 0;
+
+  std::array<std::vector<double>*, kStatCount> vectors() { return {&min, &max, &mean, &std, &q01, &q99}; }
+  std::array<const std::vector<double>*, kStatCount> vectors() const {
+    return {&min, &max, &mean, &std, &q01, &q99};
+  }
 };
+
+// The q-quantile of `count` sorted values, value(k) giving the k-th (numpy's "linear").
+template <typename Value>
+double quantile(double q, int64_t count, const Value& value) {
+  const double position = q * static_cast<double>(count - 1);
+  const auto below = static_cast<int64_t>(std::floor(position));
+  const double fraction = position - static_cast<double>(below);
+  const double low = value(below);
+  return below + 1 < count ? low + fraction * (value(below + 1) - low) : low;
+}
 using EpisodeStats = std::map<std::string, FeatureStats>;
 
 // The stats of a table column: one entry per list element (a scalar column has one dimension).
@@ -91,11 +110,35 @@ FeatureStats column_stats(const ParquetColumn& column) {
     sum[d] += value;
     sum_squares[d] += value * value;
   }
+  std::vector<double> sorted(static_cast<size_t>(rows));
   for (size_t d = 0; d < sum.size(); ++d) {
     const double n = static_cast<double>(rows);
     const double mean = sum[d] / n;
     stats.mean.push_back(mean);
     stats.std.push_back(std::sqrt(std::max(0.0, sum_squares[d] / n - mean * mean)));
+    for (int64_t r = 0; r < rows; ++r) {
+      const auto k = static_cast<size_t>(r * dims) + d;
+      switch (column.type) {
+        case ParquetType::kInt64:
+          sorted[static_cast<size_t>(r)] = static_cast<double>(column.int64s[k]);
+          break;
+        case ParquetType::kFloat32:
+          sorted[static_cast<size_t>(r)] = static_cast<double>(column.float32s[k]);
+          break;
+        case ParquetType::kFloat64:
+          sorted[static_cast<size_t>(r)] = column.float64s[k];
+          break;
+        case ParquetType::kBool:
+          sorted[static_cast<size_t>(r)] = column.bools[k] ? 1.0 : 0.0;
+          break;
+        case ParquetType::kString:
+          break;
+      }
+    }
+    std::sort(sorted.begin(), sorted.end());
+    const auto value = [&sorted](int64_t k) { return sorted[static_cast<size_t>(k)]; };
+    stats.q01.push_back(quantile(0.01, rows, value));
+    stats.q99.push_back(quantile(0.99, rows, value));
   }
   return stats;
 }
@@ -139,6 +182,16 @@ struct ImageSums {
       stats.max.push_back(highest / 255.0);
       stats.mean.push_back(mean / 255.0);
       stats.std.push_back(std::sqrt(variance) / 255.0);
+      const auto value = [&channel](int64_t k) {  // the k-th smallest pixel value
+        uint64_t seen = 0;
+        for (size_t v = 0; v < 256; ++v) {
+          seen += channel[v];
+          if (seen > static_cast<uint64_t>(k)) return static_cast<double>(v);
+        }
+        return 255.0;
+      };
+      stats.q01.push_back(quantile(0.01, static_cast<int64_t>(n), value) / 255.0);
+      stats.q99.push_back(quantile(0.99, static_cast<int64_t>(n), value) / 255.0);
     }
     return stats;
   }
@@ -159,6 +212,18 @@ FeatureStats aggregate(const std::vector<const FeatureStats*>& parts) {
       mean[d] += part->mean[d] * static_cast<double>(part->count) / static_cast<double>(total.count);
     }
   }
+  // Quantiles: the count-weighted mean of the episodes' (as LeRobot aggregates them; exact
+  // ones would need every value of the dataset).
+  for (size_t d = 0; d < dims; ++d) {
+    double q01 = 0, q99 = 0;
+    for (const FeatureStats* part : parts) {
+      const double weight = static_cast<double>(part->count) / static_cast<double>(total.count);
+      q01 += part->q01[d] * weight;
+      q99 += part->q99[d] * weight;
+    }
+    total.q01[d] = q01;
+    total.q99[d] = q99;
+  }
   for (size_t d = 0; d < dims; ++d) {
     double variance = 0;
     for (const FeatureStats* part : parts) {
@@ -177,11 +242,9 @@ Json stats_json(const FeatureStats& stats, bool image) {
     for (double x : v) out.push_back(image ? Json::array({Json::array({x})}) : Json(x));
     return out;
   };
-  return {{"min", values(stats.min)},
-          {"max", values(stats.max)},
-          {"mean", values(stats.mean)},
-          {"std", values(stats.std)},
-          {"count", Json::array({stats.count})}};
+  Json json = {{"count", Json::array({stats.count})}};
+  for (size_t s = 0; s < kStatCount; ++s) json[kStatNames[s]] = values(*stats.vectors()[s]);
+  return json;
 }
 
 void flatten_numbers(const Json& value, std::vector<double>& out, const std::string& where) {
@@ -194,10 +257,10 @@ void flatten_numbers(const Json& value, std::vector<double>& out, const std::str
 
 FeatureStats stats_from_json(const Json& json, const std::string& where) {
   FeatureStats stats;
-  flatten_numbers(core::json_member(json, "min", where), stats.min, where + ".min");
-  flatten_numbers(core::json_member(json, "max", where), stats.max, where + ".max");
-  flatten_numbers(core::json_member(json, "mean", where), stats.mean, where + ".mean");
-  flatten_numbers(core::json_member(json, "std", where), stats.std, where + ".std");
+  for (size_t s = 0; s < kStatCount; ++s) {
+    flatten_numbers(core::json_member(json, kStatNames[s], where), *stats.vectors()[s],
+                    where + "." + kStatNames[s]);
+  }
   std::vector<double> count;
   flatten_numbers(core::json_member(json, "count", where), count, where + ".count");
   if (count.size() != 1) throw core::InputError(where + ".count", "[n]", json["count"].dump());
@@ -1084,7 +1147,7 @@ class LeRobotWriter : public DatasetWriter {
     ParquetColumn variant = make_column("hribench/variant", ParquetType::kString);
     ParquetColumn success = make_column("hribench/success", ParquetType::kBool);
     ParquetColumn labels = make_column("hribench/failure_labels", ParquetType::kString, true);
-    std::map<std::string, std::array<ParquetColumn, 5>> stats;
+    std::map<std::string, std::array<ParquetColumn, kStatCount + 1>> stats;  // and count
     for (size_t e = 0; e < written_; ++e) {
       const EpisodeRecord& r = episodes_[e];
       episode_index.int64s.push_back(r.index);
@@ -1118,20 +1181,18 @@ class LeRobotWriter : public DatasetWriter {
         auto [it, added] = stats.try_emplace(key);
         if (added) {
           const std::string prefix = "stats/" + key + "/";
-          it->second = {make_column(prefix + "min", ParquetType::kFloat64, true),
-                        make_column(prefix + "max", ParquetType::kFloat64, true),
-                        make_column(prefix + "mean", ParquetType::kFloat64, true),
-                        make_column(prefix + "std", ParquetType::kFloat64, true),
-                        make_column(prefix + "count", ParquetType::kInt64, true)};
+          for (size_t s = 0; s < kStatCount; ++s) {
+            it->second[s] = make_column(prefix + kStatNames[s], ParquetType::kFloat64, true);
+          }
+          it->second[kStatCount] = make_column(prefix + "count", ParquetType::kInt64, true);
         }
-        const std::array<const std::vector<double>*, 4> values = {&feature.min, &feature.max,
-                                                                  &feature.mean, &feature.std};
-        for (size_t s = 0; s < 4; ++s) {
+        const auto values = feature.vectors();
+        for (size_t s = 0; s < kStatCount; ++s) {
           it->second[s].float64s.insert(it->second[s].float64s.end(), values[s]->begin(), values[s]->end());
           it->second[s].list_lengths.push_back(static_cast<int64_t>(values[s]->size()));
         }
-        it->second[4].int64s.push_back(feature.count);
-        it->second[4].list_lengths.push_back(1);
+        it->second[kStatCount].int64s.push_back(feature.count);
+        it->second[kStatCount].list_lengths.push_back(1);
       }
     }
     for (ParquetColumn* column : {&episode_index, &tasks, &length, &data_chunk, &data_file,
@@ -1306,15 +1367,14 @@ class LeRobotWriter : public DatasetWriter {
     for (const auto& [key, feature] : features_.items()) {
       const std::string prefix = "stats/" + key + "/";
       if (table.find(prefix + "count") == nullptr) continue;
-      std::array<const ParquetColumn*, 4> values{};
-      const std::array<const char*, 4> names = {"min", "max", "mean", "std"};
-      for (size_t s = 0; s < 4; ++s) values[s] = &column_of(table, prefix + names[s], where);
+      std::array<const ParquetColumn*, kStatCount> values{};
+      for (size_t s = 0; s < kStatCount; ++s) values[s] = &column_of(table, prefix + kStatNames[s], where);
       const std::vector<int64_t> counts = ints(prefix + "count");
-      std::array<size_t, 4> at{};
+      std::array<size_t, kStatCount> at{};
       for (size_t e = 0; e < episodes_.size(); ++e) {
         FeatureStats stats;
-        std::array<std::vector<double>*, 4> out = {&stats.min, &stats.max, &stats.mean, &stats.std};
-        for (size_t s = 0; s < 4; ++s) {
+        const auto out = stats.vectors();
+        for (size_t s = 0; s < kStatCount; ++s) {
           const auto n = static_cast<size_t>(values[s]->list_lengths[e]);
           out[s]->assign(values[s]->float64s.begin() + static_cast<std::ptrdiff_t>(at[s]),
                          values[s]->float64s.begin() + static_cast<std::ptrdiff_t>(at[s] + n));

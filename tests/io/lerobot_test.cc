@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 
 #include "core/json.h"
@@ -138,10 +139,22 @@ std::vector<double> flat(const Json& value) {
   return out;
 }
 
-// Stats recomputed here from values the real readers read: {min, max, mean, std} per dimension.
-std::array<std::vector<double>, 4> recompute(const std::vector<std::vector<double>>& rows) {
+using Stats = std::array<std::vector<double>, 6>;
+
+// numpy.quantile(values, q) (linear interpolation).
+double numpy_quantile(std::vector<double> values, double q) {
+  std::sort(values.begin(), values.end());
+  const double position = q * static_cast<double>(values.size() - 1);
+  const size_t below = static_cast<size_t>(position);
+  const double fraction = position - static_cast<double>(below);
+  return below + 1 < values.size() ? values[below] + fraction * (values[below + 1] - values[below]) : values[below];
+}
+
+// Stats recomputed here from values the real readers read: {min, max, mean, std, q01, q99} per
+// dimension.
+Stats recompute(const std::vector<std::vector<double>>& rows) {
   const size_t dims = rows.front().size();
-  std::array<std::vector<double>, 4> s;
+  Stats s;
   for (size_t d = 0; d < dims; ++d) {
     double lo = rows[0][d], hi = rows[0][d], sum = 0;
     for (const auto& r : rows) {
@@ -156,15 +169,18 @@ std::array<std::vector<double>, 4> recompute(const std::vector<std::vector<doubl
     s[1].push_back(hi);
     s[2].push_back(mean);
     s[3].push_back(std::sqrt(var / static_cast<double>(rows.size())));
+    std::vector<double> column;
+    for (const auto& r : rows) column.push_back(r[d]);
+    s[4].push_back(numpy_quantile(column, 0.01));
+    s[5].push_back(numpy_quantile(column, 0.99));
   }
   return s;
 }
 
-void expect_stats(const Json& stats, const std::array<std::vector<double>, 4>& expected,
-                  int64_t count, const std::string& what) {
+void expect_stats(const Json& stats, const Stats& expected, int64_t count, const std::string& what) {
   SCOPED_TRACE(what);
-  const char* names[] = {"min", "max", "mean", "std"};
-  for (size_t s = 0; s < 4; ++s) {
+  const char* names[] = {"min", "max", "mean", "std", "q01", "q99"};
+  for (size_t s = 0; s < 6; ++s) {
     const std::vector<double> got = flat(stats.at(names[s]));
     ASSERT_EQ(got.size(), expected[s].size()) << names[s];
     for (size_t d = 0; d < got.size(); ++d) EXPECT_NEAR(got[d], expected[s][d], 1e-6) << names[s] << d;
@@ -173,7 +189,7 @@ void expect_stats(const Json& stats, const std::array<std::vector<double>, 4>& e
 }
 
 // Per-channel stats of a camera's frames over the given episodes, scaled to [0, 1].
-std::array<std::vector<double>, 4> image_stats(const std::vector<std::pair<int, int64_t>>& episodes,
+Stats image_stats(const std::vector<std::pair<int, int64_t>>& episodes,
                                                int camera) {
   std::vector<std::vector<double>> pixels;
   for (const auto& [episode, length] : episodes) {
@@ -311,9 +327,26 @@ void check_dataset_stats(const fs::path& dir, const std::map<int64_t, std::vecto
   const Json stats = core::read_json_file((dir / "meta/stats.json").string());
   std::vector<Json> all;
   for (const auto& [e, rows] : rows_by_episode) all.insert(all.end(), rows.begin(), rows.end());
-  expect_stats(stats.at("observation.state"), recompute(column_rows(all, "observation.state")), 16, "stats.json state");
-  expect_stats(stats.at("index"), recompute(column_rows(all, "index")), 16, "stats.json index");
-  expect_stats(stats.at("observation.images.wrist"), image_stats(kEpisodes, 1), 16, "stats.json wrist");
+  // Over all rows, but the quantiles: the count-weighted mean of the episodes' (docs/datasets.md).
+  const auto dataset = [&](Stats over_all, const std::function<Stats(size_t)>& of_episode) {
+    for (size_t q = 4; q < 6; ++q) {
+      for (size_t d = 0; d < over_all[q].size(); ++d) {
+        over_all[q][d] = 0;
+        for (size_t e = 0; e < kEpisodes.size(); ++e) {
+          over_all[q][d] += of_episode(e)[q][d] * static_cast<double>(kEpisodes[e].second) / 16.0;
+        }
+      }
+    }
+    return over_all;
+  };
+  for (const char* key : {"observation.state", "index"}) {
+    expect_stats(stats.at(key), dataset(recompute(column_rows(all, key)), [&](size_t e) {
+                   return recompute(column_rows(rows_by_episode.at(static_cast<int64_t>(e)), key));
+                 }), 16, std::string("stats.json ") + key);
+  }
+  expect_stats(stats.at("observation.images.wrist"),
+               dataset(image_stats(kEpisodes, 1), [&](size_t e) { return image_stats({kEpisodes[e]}, 1); }), 16,
+               "stats.json wrist");
   EXPECT_EQ(stats.at("observation.images.wrist").at("mean").size(), 3u);
   EXPECT_EQ(stats.at("observation.images.wrist").at("mean")[0], Json::array({Json::array({stats.at("observation.images.wrist").at("mean")[0][0][0]})}));
 }
@@ -466,7 +499,7 @@ TEST(LeRobot, V30DatasetHoldsSeveralEpisodesPerFileWithOffsetsTheReadersAgreeWit
     const auto& rows = rows_by_episode.at(static_cast<int64_t>(e));
     for (const char* key : {"observation.state", "action", "index"}) {
       Json stats;
-      for (const char* s : {"min", "max", "mean", "std", "count"}) stats[s] = row.at(std::string("stats/") + key + "/" + s);
+      for (const char* s : {"min", "max", "mean", "std", "q01", "q99", "count"}) stats[s] = row.at(std::string("stats/") + key + "/" + s);
       expect_stats(stats, recompute(column_rows(rows, key)), n, key);
     }
   }
