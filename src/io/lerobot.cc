@@ -383,7 +383,7 @@ struct EpisodeRecord {
   // v3.0: where its rows and frames are.
   int64_t group = 0;          // the file group (chunk group / chunks_size, file group % it)
   int64_t from_index = 0;     // its first row's global index
-  double from_timestamp = 0;  // its first frame's time in the group's mp4s, s
+  int64_t from_frame = 0;     // its first frame's number in the group's mp4s (at from_frame / fps)
 };
 
 Json annotations_json(const EpisodeRecord& r) {
@@ -904,7 +904,7 @@ class LeRobotWriter : public DatasetWriter {
 
   void add_to_group(EpisodeRecord& record, const ParquetTable& table, const std::vector<fs::path>& staged) {
     record.group = group_number_;
-    record.from_timestamp = static_cast<double>(group_.frames) / fps_;
+    record.from_frame = group_.frames;
     append_rows(group_.table, table);
     group_.data_bytes += estimated_bytes(table);
     group_.video_bytes.resize(staged.size(), 0);
@@ -1163,8 +1163,8 @@ class LeRobotWriter : public DatasetWriter {
       for (auto& video : videos) {
         video[0].int64s.push_back(chunk_of(r.group));
         video[1].int64s.push_back(r.group % options_.chunks_size);
-        video[2].float64s.push_back(r.from_timestamp);
-        video[3].float64s.push_back(r.from_timestamp + static_cast<double>(r.length) / fps_);
+        video[2].float64s.push_back(static_cast<double>(r.from_frame) / fps_);
+        video[3].float64s.push_back(static_cast<double>(r.from_frame + r.length) / fps_);
       }
       for (const auto& [key, value] : std::map<std::string, std::string>{
                {"task", r.task}, {"task_id", r.task_id}, {"role", r.role},
@@ -1360,7 +1360,7 @@ class LeRobotWriter : public DatasetWriter {
       for (int64_t k = 0; k < labels.list_lengths[e]; ++k) r.failure_labels.push_back(labels.strings[label++]);
       r.group = chunk[e] * options_.chunks_size + file[e];
       r.from_index = from[e];
-      r.from_timestamp = from_timestamp[e];
+      r.from_frame = std::llround(from_timestamp[e] * fps_);
       episodes_.push_back(std::move(r));
       group_number_ = std::max(group_number_, episodes_.back().group + 1);
     }
