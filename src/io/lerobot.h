@@ -18,8 +18,8 @@
 // Resume (DatasetWriter::resume, --resume): the writer opens the dataset in `dir` (same version,
 // chunks_size and file sizes, else core::InputError naming meta/info.json's key), checks that its
 // episodes start with the collector's committed ones (spec hash and seed, in order), drops those
-// after them (an episode committed just before the run stopped, not recorded by the collector),
-// removes the files the meta files do not list (a run stopped between a file and its meta) and
+// after them (an episode committed just before the run stopped, not recorded by the collector;
+// v3.0 drops only staged ones, an error for episodes of a written group), removes the files the meta files do not list (a run stopped between a file and its meta) and
 // appends after them. Without resume, the first episode refuses a folder holding a dataset.
 
 #include <cstdint>

@@ -609,6 +609,10 @@ TEST(LeRobot, ResumeKeepsTheEpisodesTheCollectorCommittedAndAppendsAfterThem) {
     }
     EXPECT_EQ(error_of([&] { read_lerobot_episodes(dir / "nothing"); }),
               (dir / "nothing").string() + ": expected a LeRobot dataset, got no meta/info.json");
+    if (version == LeRobotVersion::kV30) {  // written file groups are never rewritten
+      EXPECT_EQ(error_of([&] { make_lerobot_writer(dir, version, options)->resume({header(0), header(1)}); }),
+                dir.string() + ": expected the 2 episodes the collect committed, got 3 in written files");
+    }
     size_t mp4s = 0;
     for (const auto& entry : fs::recursive_directory_iterator(dir / "videos")) {
       if (entry.is_regular_file()) {
