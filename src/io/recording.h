@@ -34,10 +34,18 @@ struct EpisodeHeader {
   std::string policy;       // the policy reference that produced the actions
   std::string robot;        // "panda"
   int fps = 20;             // control rate, frames per second
+  // Names are GROUP.PART ("joint_pos.panda_joint1", "gripper.opening"): the dimensions of a
+  // group are consecutive, so a group is a slice (GR00T's modality.json, ACT's qpos).
   std::vector<std::string> state_names;   // one per dimension of Frame::state
   std::vector<std::string> action_names;  // one per dimension of Frame::action
   std::string action_space;               // the action space of Frame::action
   std::vector<CameraSpec> cameras;        // aligned with Frame::images
+  // Bounds every Frame::action respects, one per action dimension (the episode's action limits).
+  std::vector<float> action_low;
+  std::vector<float> action_high;
+  // The most frames an episode of this task can have (its horizon / control step + 1): formats
+  // whose episodes of a task share one length (ACT) pad to it.
+  int64_t max_frames = 0;
 };
 
 // One control step. Pointers and vectors are valid during EpisodeSink::add only.
@@ -45,12 +53,17 @@ struct Frame {
   int64_t index = 0;   // frame index in the episode, 0, 1, 2, ...
   double time = 0;     // simulated time, s (index / fps)
   std::vector<float> state;   // proprioception, header.state_names
-  std::vector<float> action;  // the action executed from this step on, header.action_names
+  // The action executed from this step on, header.action_names; on the last frame (nothing
+  // executed after it) the command in force held (docs/datasets.md).
+  std::vector<float> action;
   std::vector<const render::Image*> images;  // one per header.cameras, RGB of its size
   std::string human_act;      // the human act running at this step ("" when none)
   std::vector<std::string> events;  // cue and act events since the previous frame
   float reward = 0;           // the scenario's sparse reward at this step
   bool done = false;          // the last frame of the episode
+  // The simulation state at this step, flattened: [time, qpos (nq), qvel (nv)] of the
+  // episode's MuJoCo model (robomimic's `states`).
+  std::vector<double> sim_state;
 };
 
 // How the episode ended.
@@ -82,6 +95,19 @@ class DatasetWriter {
   virtual void discard(std::unique_ptr<EpisodeSink> sink) = 0;
   // Writes the dataset-wide files (meta/info.json, stats, ...) for what is committed.
   virtual void finish() = 0;
+  // Continuing an interrupted collect (--resume), called once before any begin_episode: the
+  // dataset holds exactly `committed` (the headers of the episodes the collector recorded as
+  // committed, in commit order); anything written beyond them (an episode committed just before
+  // the interruption, but not recorded) is dropped. Throws core::InputError when the files on
+  // disk do not hold them. The default refuses to resume a non-empty dataset.
+  virtual void resume(const std::vector<EpisodeHeader>& committed);
 };
+
+inline void DatasetWriter::resume(const std::vector<EpisodeHeader>& committed) {
+  if (!committed.empty()) {
+    throw core::InputError("--resume", "a dataset format that can be continued",
+                           std::to_string(committed.size()) + " committed episodes of a format that cannot");
+  }
+}
 
 }  // namespace hribench::io
