@@ -30,7 +30,7 @@ struct EpisodeHeader {
   std::string instruction;  // the language instruction (the dataset's task string)
   std::string spec_hash;    // the EpisodeSpec's hash
   uint64_t seed = 0;
-  int variant = 0;
+  std::string variant;      // the script's variant ("" when it has none)
   std::string policy;       // the policy reference that produced the actions
   std::string robot;        // "panda"
   int fps = 20;             // control rate, frames per second
