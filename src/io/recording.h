@@ -70,7 +70,9 @@ struct Frame {
 struct EpisodeOutcome {
   bool success = false;
   core::EpisodeStatus status = core::EpisodeStatus::kOk;
-  std::vector<std::string> failure_labels;  // docs/metrics.md's labels; empty on success
+  // docs/metrics.md's labels that apply; a successful episode may carry interaction labels
+  // (e.g. desync, unsafe_proximity).
+  std::vector<std::string> failure_labels;
   int64_t frames = 0;                       // frames added
 };
 

@@ -50,13 +50,14 @@ eval::EpisodeLog replay_episode(const script::EpisodeSpec& spec, const RecordedE
   options.horizon = 0;  // the script's, as the collect
   eval::Episode episode(spec, policy, eval::setup_of(spec, recorded.policy), options);
   episode.reset();
+  std::string end;  // why it ended
   for (size_t k = 0; k < recorded.actions.size(); ++k) {
     if (episode.done()) {
       throw core::InputError(where, fmt::format("an episode that runs {} actions", recorded.actions.size()),
-                             fmt::format("one that ended after {} ({})", k, episode.log().status_reason));
+                             fmt::format("one that ended after {} ({})", k, end));
     }
     const std::vector<float>& a = recorded.actions[k];
-    episode.step(policy::Action(a.begin(), a.end()));
+    end = episode.step(policy::Action(a.begin(), a.end())).info;
   }
   if (!episode.done()) {
     throw core::InputError(where, fmt::format("an episode that ends after its {} actions", recorded.actions.size()),
