@@ -11,6 +11,7 @@
 #include "gen/pool.h"
 #include "io/collect.h"
 #include "io/hdf5.h"
+#include "policy/registry.h"
 #include "script/sample.h"
 
 namespace hribench::io {
@@ -68,6 +69,13 @@ eval::EpisodeLog replay_episode(const script::EpisodeSpec& spec, const RecordedE
 
 ReplayReport replay_dataset(const fs::path& dir, size_t limit) {
   const nlohmann::json options = collect_options(dir);
+  // Only the policy's own actions are the executed ones.
+  const std::string policy = options.at("policy").get<std::string>();
+  const std::string own(policy::to_string(policy::make_policy(policy)->spec().action_space));
+  if (options.at("action_space") != own) {
+    throw core::InputError("--dataset", "a dataset of " + policy + "'s own actions (" + own + ")",
+                           options.at("action_space").dump() + " actions (--action-space)");
+  }
   const gen::Manifest manifest = gen::read_manifest(options.at("pool").get<std::string>());
   const gen::Split split = gen::split_from_name(options.at("split").get<std::string>(), "split");
   const std::vector<script::EpisodeSpec> specs =

@@ -45,7 +45,9 @@ struct ReplayReport {
 };
 
 // Replays every episode of the collect in DIR (its pool's specs, found by hash) and compares
-// each log with DIR/hribench/logs. `limit` > 0: the first `limit` episodes only.
+// each log with DIR/hribench/logs. `limit` > 0: the first `limit` episodes only. Throws
+// core::InputError for a dataset recorded in another action space than its policy's own
+// (--action-space joint_pos of an ee_delta policy: not the executed actions).
 ReplayReport replay_dataset(const std::filesystem::path& dir, size_t limit = 0);
 
 }  // namespace hribench::io
