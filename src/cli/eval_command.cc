@@ -9,6 +9,10 @@
 // sampled seeds; the results' options name the pool and its version.
 // With --save-logs each episode's log is written to DIR/logs/TASK__POLICY__SEED__HASH.hlog
 // (eval/episode_log.h; by an observer of the episode, atomically: temporary name + rename).
+// With --video failures|all each failed (or every) episode's video is written to
+// DIR/videos/TASK__POLICY__SEED__HASH.mp4 by the worker right after the episode, from its log
+// (io/episode_video.h, docs/videos.md); --video-cameras agentview,wrist puts the wrist camera
+// beside agentview. Videos do not change results and are not among the run's options.
 // With --shard i/N only every N-th job runs and the options record the shard; `hribench merge`
 // combines the N folders (eval/shard.h, docs/scale.md).
 // The run itself is the library's (gen/evaluation.h, eval/run.h), shared with Python's
@@ -17,24 +21,52 @@
 // the run (exit 1); those episodes are not written, so --resume runs them again.
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 
 #include "cli/command.h"
+#include "core/errors.h"
 #include "eval/report.h"
 #include "eval/run.h"
 #include "gen/evaluation.h"
 #include "gen/pool.h"
+#include "io/episode_video.h"
 #include "policy/registry.h"
 #include "remote/remote.h"
 
 namespace hribench::cli {
 namespace {
 
-int run_eval(const gen::EvalRequest& o) {
+struct VideoRequest {
+  std::string which = "none";  // --video: none, failures or all
+  std::string cameras = "agentview";
+};
+
+// Sets settings.after_episode to write the videos --video asks for.
+void ask_for_videos(const VideoRequest& video, const eval::RunPlan& plan, eval::RunSettings& settings) {
+  if (video.which == "none") return;
+  if (video.which != "failures" && video.which != "all") {
+    throw core::InputError("--video", "none, failures or all", "'" + video.which + "'");
+  }
+  io::EpisodeVideoOptions options;
+  options.cameras = io::video_cameras(video.cameras, plan.by_task.front().front(), "--video-cameras");
+  options.backend = settings.run_options.render_backend;
+  const std::filesystem::path dir = settings.out / "videos";
+  const bool all = video.which == "all";
+  settings.after_episode = [dir, options, all](const script::EpisodeSpec& spec, const eval::EpisodeLog& log,
+                                               const eval::EpisodeResult& result, const std::string& stem) {
+    if (!all && result.metrics.success) return;
+    std::filesystem::create_directories(dir);
+    io::write_episode_video(spec, log, dir / (stem + ".mp4"), options);
+  };
+}
+
+int run_eval(const gen::EvalRequest& o, const VideoRequest& video) {
   const eval::PolicyMaker make = [](const std::string& reference) { return policy::make_policy(reference); };
   eval::RunSettings settings;
   const eval::RunPlan plan = gen::plan_evaluation(o, make, settings);
+  ask_for_videos(video, plan, settings);
   // A remote policy that cannot connect for several episodes in a row stops the run.
   settings.unreachable = [](const eval::EpisodeResult& r) { return remote::is_connect_failure(r.status_reason); };
   settings.max_unreachable = remote::kMaxConnectFailures;
@@ -94,15 +126,21 @@ HRIB_REGISTER_COMMAND(
                      "with hribench merge (docs/scale.md)");
       app.add_flag("--save-logs", o->save_logs,
                    "Write each episode's log to DIR/logs/*.hlog (hribench's binary episode log)");
+      auto video = std::make_shared<VideoRequest>();
+      app.add_option("--video", video->which,
+                     "Write episode videos to DIR/videos/*.mp4: none, failures or all (docs/videos.md)")
+          ->capture_default_str();
+      app.add_option("--video-cameras", video->cameras, "agentview, or agentview,wrist side by side")
+          ->capture_default_str();
       app.footer([] {
         std::string policies;
         for (const std::string& name : policy::policy_names()) policies += (policies.empty() ? "" : ", ") + name;
         return "Tasks: " + gen::task_list_text() + ".\nPolicies: " + policies +
                " (docs/policies.md; options as NAME?key=value&key=value).";
       });
-      return [o, episodes, seed] {
+      return [o, video, episodes, seed] {
         o->sampling_flags = episodes->count() > 0 || seed->count() > 0;
-        return run_eval(*o);
+        return run_eval(*o, *video);
       };
     });
 

@@ -14,6 +14,7 @@
 
 #include "core/errors.h"
 #include "core/files.h"
+#include "core/log.h"
 #include "eval/metrics.h"
 #include "eval/parallel.h"
 #include "eval/task_episode.h"
@@ -35,20 +36,15 @@ struct Job {
 // The policies of one worker thread: one instance per reference for the whole run.
 using WorkerPolicies = std::map<std::string, std::unique_ptr<policy::Policy>>;
 
-// The log file of an episode: DIR/logs/TASK__POLICY__SEED__HASH.hlog, with characters a file
-// name should not hold in a policy reference (openpi://host:8000) replaced by '_'.
 fs::path log_path(const fs::path& dir, const Job& job) {
-  std::string name = job.spec->task + "__" + job.policy + "__" + std::to_string(job.spec->seed) +
-                     "__" + job.hash.substr(0, 12) + ".hlog";
-  for (char& c : name) {
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
-  }
-  return dir / "logs" / name;
+  return dir / "logs" / (episode_stem(job.spec->task, job.policy, job.spec->seed, job.hash) + ".hlog");
 }
 
 // One episode; trouble (a scene the model cannot build, any exception) -> invalid with reason.
-EpisodeResult run_one(const Job& job, const RunOptions& base, WorkerPolicies& policies,
-                      const PolicyMaker& make, const std::optional<fs::path>& log_file) {
+EpisodeResult run_one(const Job& job, const RunSettings& settings, WorkerPolicies& policies,
+                      const PolicyMaker& make) {
+  const std::optional<fs::path> log_file =
+      settings.save_logs ? std::optional<fs::path>(log_path(settings.out, job)) : std::nullopt;
   const script::EpisodeSpec& spec = *job.spec;
   EpisodeResult result;
   try {
@@ -58,8 +54,16 @@ EpisodeResult run_one(const Job& job, const RunOptions& base, WorkerPolicies& po
     std::optional<LogFileWriter> writer;
     std::vector<EpisodeObserver*> observers;
     if (log_file) observers.push_back(&writer.emplace(*log_file));
-    const ScoredEpisode scored = run_task_episode(spec, *policy, setup, base, observers);
+    const ScoredEpisode scored = run_task_episode(spec, *policy, setup, settings.run_options, observers);
     result = make_result(scored.log, scored.metrics);
+    if (settings.after_episode) {
+      try {
+        settings.after_episode(spec, scored.log, result,
+                               episode_stem(spec.task, job.policy, spec.seed, job.hash));
+      } catch (const std::exception& e) {
+        spdlog::warn("{}: {}", episode_stem(spec.task, job.policy, spec.seed, job.hash), e.what());
+      }
+    }
   } catch (const std::exception& e) {
     result = EpisodeResult{};
     result.task = spec.task;
@@ -139,7 +143,7 @@ std::vector<EpisodeResult> prepare_out(const RunSettings& s, const nlohmann::jso
                              "summary.csv"}) {
       fs::remove(dir / name);
     }
-    fs::remove_all(dir / "logs");
+    for (const char* folder : {"logs", "videos", "replay"}) fs::remove_all(dir / folder);
   } else if (has_run && !s.resume) {
     throw core::InputError::Message(
         "--out", out + " already holds a run; use --resume to continue it or --force to replace it");
@@ -217,11 +221,8 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
         todo.size(), settings.threads,
         [&](size_t job, int worker) {
           if (stop) throw RunStopped("stopped");
-          const Job& j = all_jobs[todo[job]];
-          const std::optional<fs::path> log_file =
-              settings.save_logs ? std::optional<fs::path>(log_path(settings.out, j)) : std::nullopt;
-          return run_one(j, settings.run_options, worker_policies[static_cast<size_t>(worker)], make,
-                         log_file);
+          return run_one(all_jobs[todo[job]], settings, worker_policies[static_cast<size_t>(worker)],
+                         make);
         },
         [&](size_t, const EpisodeResult& result) {
           if (settings.unreachable && settings.unreachable(result)) {
@@ -251,6 +252,16 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
   for (const Job& job : all_jobs) run.episodes.push_back(by_key.at(job.key));
   write_run(settings.out, run);
   return run;
+}
+
+std::string episode_stem(std::string_view task, std::string_view policy, uint64_t seed,
+                         std::string_view spec_hash) {
+  std::string stem = std::string(task) + "__" + std::string(policy) + "__" + std::to_string(seed) +
+                     "__" + std::string(spec_hash.substr(0, 12));
+  for (char& c : stem) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
+  }
+  return stem;
 }
 
 }  // namespace hribench::eval

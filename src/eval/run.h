@@ -19,6 +19,7 @@
 #include <stdexcept>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -52,7 +53,21 @@ struct RunSettings {
   // (docs/remote-policies.md). An isolated one is written once a later episode reaches it.
   std::function<bool(const EpisodeResult&)> unreachable;
   int max_unreachable = 3;
+  // Called on the worker thread after each episode that ran (its log complete and scored; not
+  // for one whose scene could not be built), with the episode's file stem (episode_stem): e.g.
+  // `hribench eval --video` writing OUT/videos/STEM.mp4 from the log. Must not change the
+  // episode. An exception from it is printed as a warning and the episode's result stands.
+  std::function<void(const script::EpisodeSpec&, const EpisodeLog&, const EpisodeResult&,
+                     const std::string& stem)>
+      after_episode;
 };
+
+// The name an episode's files share under a run folder: TASK__POLICY__SEED__HASH12 (the spec
+// hash's first 12 characters), with characters a file name should not hold in a policy
+// reference (openpi://host:8000) replaced by '_'. OUT/logs/STEM.hlog (--save-logs),
+// OUT/videos/STEM.mp4 (--video), OUT/replay/STEM.html.
+std::string episode_stem(std::string_view task, std::string_view policy, uint64_t seed,
+                         std::string_view spec_hash);
 
 // Thrown by run_plan when the policy could not be reached for max_unreachable episodes in a
 // row: "N episodes in a row could not connect (REASON); M episodes are in OUT/episodes.jsonl".

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "core/errors.h"
+#include "core/json.h"
 #include "core/paths.h"
 #include "eval/runner.h"
 #include "eval/script_contract.h"
@@ -134,6 +135,61 @@ std::vector<std::string> tasks_ended_before_a_cue(const eval::RunPlan& plan,
     tasks.push_back(task);
   }
   return tasks;
+}
+
+LoggedEpisode load_logged_episode(const std::filesystem::path& run, const std::string& episode) {
+  namespace fs = std::filesystem;
+  const fs::path options_file = run / "options.json";
+  if (!fs::is_regular_file(options_file)) {
+    throw core::InputError(run.string(), "a run folder of hribench eval (with options.json)",
+                           "no options.json");
+  }
+  LoggedEpisode logged;
+  if (episode.size() > 5 && episode.ends_with(".hlog")) {
+    logged.log_file = episode;
+  } else {
+    const fs::path logs = run / "logs";
+    if (!fs::is_directory(logs) || fs::is_empty(logs)) {
+      throw core::InputError::Message(run.string(), "the run saved no episode logs (run eval with --save-logs)");
+    }
+    logged.log_file = logs / (episode + ".hlog");
+    if (!fs::is_regular_file(logged.log_file)) {
+      std::vector<std::string> stems;
+      for (const fs::directory_entry& entry : fs::directory_iterator(logs)) {
+        if (entry.path().extension() == ".hlog") stems.push_back(entry.path().stem().string());
+      }
+      std::sort(stems.begin(), stems.end());
+      std::string some;
+      for (size_t i = 0; i < stems.size() && i < 3; ++i) some += (i ? ", " : "") + stems[i];
+      if (stems.size() > 3) some += ", ... (" + std::to_string(stems.size()) + " in " + logs.string() + ")";
+      throw core::InputError("episode", "the stem of a log of the run (" + some + ")", "'" + episode + "'");
+    }
+  }
+  logged.log = eval::load_episode_log(logged.log_file);
+
+  // The spec the log ran: the pool's episode of that hash, or the task script sampled at its seed.
+  const nlohmann::json options = core::read_json_file(options_file.string());
+  std::vector<script::EpisodeSpec> candidates;
+  if (options.contains("pool")) {
+    const Manifest manifest = read_manifest(options.at("pool").get<std::string>());
+    const Split split = split_from_name(options.value("split", "eval"), options_file.string() + ": split");
+    candidates = pool_episodes(manifest, split, {logged.log.task});
+  } else {
+    for (const std::string& file : options.value("tasks", std::vector<std::string>{})) {
+      const script::Scenario scenario = script::load_scenario(core::resolve_data_path(file).string());
+      if (scenario.task == logged.log.task) candidates.push_back(script::sample(scenario, logged.log.seed));
+    }
+  }
+  for (script::EpisodeSpec& spec : candidates) {
+    if (script::spec_hash(spec) == logged.log.spec_hash) {
+      logged.spec = std::move(spec);
+      return logged;
+    }
+  }
+  throw core::InputError(logged.log_file.string(),
+                         "an episode of the run's tasks or pool (" + options_file.string() + ")",
+                         "task " + logged.log.task + ", seed " + std::to_string(logged.log.seed) +
+                             ", spec hash " + logged.log.spec_hash + " (none matches)");
 }
 
 eval::RunResults run_evaluation(const EvalRequest& request, const eval::PolicyMaker& make,

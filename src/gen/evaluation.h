@@ -5,10 +5,12 @@
 // seeds S..S+N-1), and the run (eval/run.h) made.
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "eval/episode_log.h"
 #include "eval/report.h"
 #include "eval/run.h"
 
@@ -43,6 +45,20 @@ eval::RunPlan plan_evaluation(const EvalRequest& request, const eval::PolicyMake
 std::vector<std::string> tasks_ended_before_a_cue(const eval::RunPlan& plan,
                                                   const std::vector<eval::EpisodeResult>& episodes,
                                                   double horizon);
+
+// A saved episode of a run (eval --save-logs): its log file and the EpisodeSpec it ran, for
+// the commands that show an episode again from its log alone (hribench video, replay-html).
+struct LoggedEpisode {
+  std::filesystem::path log_file;  // RUN/logs/STEM.hlog
+  eval::EpisodeLog log;
+  script::EpisodeSpec spec;        // rebuilt from the run's options.json: spec_hash(spec) == log's
+};
+
+// `episode` is a log's stem (TASK__POLICY__SEED__HASH, as RUN/logs/ names it) or the path of a
+// .hlog file. Throws core::InputError: RUN not a run folder (no options.json), no saved logs
+// ("run eval with --save-logs"), an unknown stem (a few that exist are named), a log that does
+// not load, or a spec the run's tasks or pool no longer give (the hashes named).
+LoggedEpisode load_logged_episode(const std::filesystem::path& run, const std::string& episode);
 
 // plan_evaluation, then eval::run_plan.
 eval::RunResults run_evaluation(const EvalRequest& request, const eval::PolicyMaker& make,

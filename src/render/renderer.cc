@@ -69,8 +69,11 @@ Renderer::Renderer(Backend backend, const mjModel& m, int width, int height,
                    RenderSettings settings)
     : backend_(backend), width_(width), height_(height), settings_(settings) {
   check_image_size(width, height);
-  HRIB_CHECK(settings.multisamples >= 0 && settings.shadow_map_size >= 0)
-      << "multisamples " << settings.multisamples << ", shadow map " << settings.shadow_map_size;
+  HRIB_CHECK(settings.multisamples >= 0 && settings.shadow_map_size >= 0 &&
+             settings.font_scale >= 50 && settings.font_scale <= 300 &&
+             settings.font_scale % 50 == 0)
+      << "multisamples " << settings.multisamples << ", shadow map " << settings.shadow_map_size
+      << ", font scale " << settings.font_scale;
   mjv_defaultOption(&option_);
   mjv_defaultCamera(&camera_);
   mjv_defaultScene(&scene_);
@@ -99,7 +102,7 @@ Renderer::Renderer(Backend backend, const mjModel& m, int width, int height,
     const std::lock_guard<std::mutex> lock(make_context_mutex);
     ThrowingMujocoErrors errors;
     mjv_makeScene(&m, &scene_, scene_capacity(m));
-    mjr_makeContext(&sized, &context_, mjFONTSCALE_50);
+    mjr_makeContext(&sized, &context_, settings.font_scale);
     mjr_setBuffer(mjFB_OFFSCREEN, &context_);
   } catch (const std::runtime_error& e) {
     mjr_freeContext(&context_);
@@ -155,6 +158,43 @@ bool Renderer::render(const mjModel& m, const mjData& d, const mjvCamera& camera
     return false;
   }
   draw(m, d, camera);
+  out.resize(width_, height_);
+  mjr_readPixels(out.rgb.data(), nullptr, mjrRect{0, 0, width_, height_}, &context_);
+  flip_rows(out.rgb.data(), width_, height_, 3);
+  return true;
+}
+
+bool Renderer::render_panels(const mjModel& m, const mjData& d,
+                             const std::vector<int>& camera_ids, const std::vector<BandRow>& band,
+                             int row_height, Image& out) {
+  if (gl_ == nullptr) {
+    out.resize(0, 0);
+    return false;
+  }
+  const int panels = static_cast<int>(camera_ids.size());
+  const int band_height = row_height * static_cast<int>(band.size());
+  HRIB_CHECK(panels > 0 && width_ % panels == 0 && band_height >= 0 && band_height < height_)
+      << panels << " panels and a band of " << band_height << " px in " << width_ << "x" << height_;
+  const int panel_width = width_ / panels;
+  gl_->make_current();
+  mjr_setBuffer(mjFB_OFFSCREEN, &context_);
+  for (int i = 0; i < panels; ++i) {
+    camera_ = fixed_camera(m, camera_ids[static_cast<size_t>(i)]);
+    mjv_updateScene(&m, const_cast<mjData*>(&d), &option_, nullptr, &camera_, mjCAT_ALL, &scene_);
+    mjr_render(mjrRect{i * panel_width, band_height, panel_width, height_ - band_height}, &scene_,
+               &context_);
+  }
+  for (size_t row = 0; row < band.size(); ++row) {
+    const int cells = static_cast<int>(band[row].size());
+    const int bottom = band_height - row_height * static_cast<int>(row + 1);  // GL rows run up
+    for (int c = 0; c < cells; ++c) {
+      const int left = width_ * c / cells;
+      const BandCell& cell = band[row][static_cast<size_t>(c)];
+      mjr_label(mjrRect{left, bottom, width_ * (c + 1) / cells - left, row_height}, mjFONT_NORMAL,
+                cell.text.c_str(), cell.background[0], cell.background[1], cell.background[2], 1,
+                1, 1, 1, &context_);
+    }
+  }
   out.resize(width_, height_);
   mjr_readPixels(out.rgb.data(), nullptr, mjrRect{0, 0, width_, height_}, &context_);
   flip_rows(out.rgb.data(), width_, height_, 3);

@@ -18,6 +18,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -30,6 +31,15 @@
 
 namespace hribench::render {
 
+// One cell of the text band under a frame's camera panels (render_panels; docs/videos.md):
+// `text` centred in white on a flat `background` (RGB in [0, 1]).
+struct BandCell {
+  std::string text;
+  std::array<float, 3> background{0.12F, 0.12F, 0.12F};
+};
+// Cells of one band row share its width equally.
+using BandRow = std::vector<BandCell>;
+
 // Largest image side we accept (pixels); every GL we target supports this offscreen size.
 inline constexpr int kMaxImageSide = 4096;
 
@@ -39,6 +49,7 @@ struct RenderSettings {
   bool skybox = false;       // mjRND_SKYBOX; without it the background is the clear colour
   int multisamples = 0;      // MSAA samples of the offscreen buffer (MuJoCo's default is 4)
   int shadow_map_size = 0;   // shadow map side when shadows are on; 0: the model's value
+  int font_scale = 50;       // mjtFontScale of the text render_panels draws (50, 100, 150, ...)
 
   // MuJoCo 2.2.2's defaults (shadows, reflections, skybox, 4x MSAA).
   static RenderSettings mujoco_defaults();
@@ -73,6 +84,12 @@ class Renderer {
   }
   // Same with any MuJoCo camera (e.g. a free camera placed for a documentation picture).
   bool render(const mjModel& m, const mjData& d, const mjvCamera& camera, Image& out);
+  // A video frame: fixed cameras `camera_ids` side by side, each width/n x (height - band
+  // height) pixels and the same picture a renderer of that size gives, above `band` rows of
+  // `row_height` pixels each (top row first). Needs width divisible by n and a band shorter
+  // than the image (HRIB_CHECK). False (and `out` 0x0) for the none back end.
+  bool render_panels(const mjModel& m, const mjData& d, const std::vector<int>& camera_ids,
+                     const std::vector<BandRow>& band, int row_height, Image& out);
   // Segmentation: each pixel's mjModel geom id, -1 for background and non-geom objects.
   bool render_segmentation(const mjModel& m, const mjData& d, int camera_id,
                            SegmentationImage& out);

@@ -1,6 +1,6 @@
 #pragma once
 // Runs a shell command line and captures its exit code and output, for tests of the
-// `hribench` command (HRIBENCH_BINARY is its path; tests run from the repository root).
+// `hribench` command and of files checked by other programs (ffprobe, node, python3) (HRIBENCH_BINARY is its path; tests run from the repository root).
 
 #include <sys/wait.h>
 
@@ -15,10 +15,9 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-// Runs `prefix` (shell words before the command, e.g. "cd DIR && " or "VAR=1 ") and then the
-// hribench binary with `args` (already shell-quoted).
-inline CommandResult run_hribench_with(const std::string& prefix, const std::string& args) {
-  const std::string command = prefix + std::string(HRIBENCH_BINARY) + " " + args + " 2>&1";
+// Runs a shell command line (already quoted), stdout and stderr captured together.
+inline CommandResult run_shell(const std::string& command_line) {
+  const std::string command = command_line + " 2>&1";
   CommandResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return result;
@@ -28,6 +27,12 @@ inline CommandResult run_hribench_with(const std::string& prefix, const std::str
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+// Runs `prefix` (shell words before the command, e.g. "cd DIR && " or "VAR=1 ") and then the
+// hribench binary with `args` (already shell-quoted).
+inline CommandResult run_hribench_with(const std::string& prefix, const std::string& args) {
+  return run_shell(prefix + std::string(HRIBENCH_BINARY) + " " + args);
 }
 
 // Runs `args` (already shell-quoted) as arguments of the hribench binary.
