@@ -522,7 +522,13 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
       eval::Episode episode(*job.spec, policy->spec(), eval::setup_of(*job.spec, r.policy), run_options);
       f.header = episode_header(*job.spec, job.task_id, r.policy, episode.model().robot, space, cameras, r.size,
                                 run_options.control_dt);
-      f.sink = writer->begin_episode(f.header);
+      try {
+        f.sink = writer->begin_episode(f.header);
+      } catch (const std::exception& e) {
+        f.write_error = e.what();
+        stop = true;
+        return f;
+      }
       FrameRecorder recorder(episode, f.header, *f.sink, backend);
       episode.add_observer(recorder);
       try {
@@ -584,7 +590,8 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
                                   job.spec->seed, f.error);
       break;
     }
-    const bool keep = f.outcome.success || r.keep == "all";
+    // An episode that ended before its first action (a policy that failed at once) shows nothing.
+    const bool keep = f.outcome.frames >= 2 && (f.outcome.success || r.keep == "all");
     std::optional<size_t> index;
     try {
       if (keep) {

@@ -285,28 +285,33 @@ TEST(Collect, AWriteFailureKeepsTheEpisodesBeforeItAndResumeDuplicatesNothing) {
   EXPECT_EQ(fs::last_write_time(act_episode_path(dir, "handover_r2h", 0)), first_written);
 }
 
-// A policy that fails at its first act: the episode ends at step 0 with a policy error.
-void register_failing_policy() {
-  policy::register_policy({"test_fails", "fails at once", [](policy::PolicyRef) -> std::unique_ptr<policy::Policy> {
+// A policy that holds still for `acts` control steps, then fails: the episode ends with a
+// policy error after `acts` steps.
+void register_failing_policy(const std::string& name, int acts) {
+  policy::register_policy({name, "fails", [acts](policy::PolicyRef) -> std::unique_ptr<policy::Policy> {
                              struct Fails : policy::Policy {
+                               explicit Fails(int n) : acts(n) {}
                                policy::PolicySpec spec() const override { return {}; }
-                               void reset(const policy::EpisodeInfo&) override {}
+                               void reset(const policy::EpisodeInfo&) override { done = 0; }
                                policy::ActionChunk act(const policy::Observation&) override {
-                                 throw policy::PolicyError(policy::PolicyErrorKind::kFailed, "test failure");
+                                 if (done++ >= acts) throw policy::PolicyError(policy::PolicyErrorKind::kFailed, "test");
+                                 return {policy::ActionSpace::kEeDelta, {{0, 0, 0, 0, 0, 0, 1}}};
                                }
+                               int acts;
+                               int done = 0;
                              };
-                             return std::make_unique<Fails>();
+                             return std::make_unique<Fails>(acts);
                            }});
 }
 
 TEST(Collect, KeepsOnlySuccessesUnlessAskedForAllWhichLabelsFailures) {
-  register_failing_policy();
-  CollectRequest r = small_request(temp_dir("keep_success"), "act-hdf5");
+  register_failing_policy("test_fails", 3);
+  CollectRequest r = small_request(temp_dir("keep_success"), "robomimic");
   r.policy = "test_fails";
   const CollectSummary none = collect(r);
   EXPECT_EQ(none.episodes, 2u);
   EXPECT_EQ(none.kept, 0u);
-  EXPECT_FALSE(fs::exists(act_episode_path(r.out, "handover_r2h", 0)));
+  EXPECT_EQ(read_robomimic_episodes(r.out).size(), 0u);
   const nlohmann::json state = read_json(collect_state_path(r.out));
   ASSERT_EQ(state.at("episodes").size(), 2u);
   EXPECT_FALSE(state.at("episodes")[0].at("kept").get<bool>());
@@ -318,8 +323,16 @@ TEST(Collect, KeepsOnlySuccessesUnlessAskedForAllWhichLabelsFailures) {
   const nlohmann::json all = read_json(collect_state_path(r.out));
   EXPECT_TRUE(all.at("episodes")[0].at("kept").get<bool>());
   EXPECT_FALSE(all.at("episodes")[0].at("labels").empty());
-  EXPECT_EQ(all.at("episodes")[0].at("frames"), 1);
-  EXPECT_TRUE(fs::exists(act_episode_path(r.out, "handover_r2h", 0)));
+  EXPECT_EQ(all.at("episodes")[0].at("frames"), 4);
+  const std::vector<RecordedEpisode> kept = read_robomimic_episodes(r.out);
+  ASSERT_EQ(kept.size(), 2u);
+  EXPECT_EQ(kept[0].actions.size(), 3u);
+
+  // An episode that failed before its first action shows nothing: never kept.
+  register_failing_policy("test_fails_at_once", 0);
+  r.out = temp_dir("keep_none");
+  r.policy = "test_fails_at_once";
+  EXPECT_EQ(collect(r).kept, 0u);
 }
 
 }  // namespace
