@@ -80,8 +80,11 @@ Id open_file(const fs::path& path, bool write) {
   return {check_id(H5Fopen(path.c_str(), write ? H5F_ACC_RDWR : H5F_ACC_RDONLY, H5P_DEFAULT), path, "open the file"),
           H5Fclose};
 }
+// Objects carry no creation times, so the same episode gives the same bytes.
 Id create_group(hid_t at, const std::string& name, const fs::path& file) {
-  return {check_id(H5Gcreate2(at, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), file, "create group " + name),
+  const Id properties(H5Pcreate(H5P_GROUP_CREATE), H5Pclose);
+  H5Pset_obj_track_times(properties, false);
+  return {check_id(H5Gcreate2(at, name.c_str(), H5P_DEFAULT, properties, H5P_DEFAULT), file, "create group " + name),
           H5Gclose};
 }
 
@@ -94,6 +97,7 @@ Id create_dataset(hid_t at, const std::string& name, hid_t type, const std::vect
   const Id space(check_id(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), max.data()), file, "make a dataspace"),
                  H5Sclose);
   const Id properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  H5Pset_obj_track_times(properties, false);
   if (!chunk.empty()) check(H5Pset_chunk(properties, static_cast<int>(chunk.size()), chunk.data()), file, "chunk " + name);
   if (deflate) check(H5Pset_deflate(properties, 4), file, "compress " + name);
   return {check_id(H5Dcreate2(at, name.c_str(), type, space, H5P_DEFAULT, properties, H5P_DEFAULT), file,

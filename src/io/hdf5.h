@@ -4,6 +4,8 @@
 // are stored gzip-compressed (HDF5's deflate filter, one chunk per frame: (1, H, W, 3)),
 // compressed outside the mutex and written as whole chunks, so workers only queue for the file
 // write itself. Readers (h5py, ACT's and robomimic's loaders) decompress transparently.
+// Objects carry no creation times: the same episodes give the same bytes, whatever the thread
+// count of the collect.
 //
 // ACT (tonyzhaozh/act, record_sim_episodes.py / utils.py):
 //   DIR/TASK/episode_0.hdf5, episode_1.hdf5, ... (per task, in commit order, no zero padding)

@@ -180,6 +180,23 @@ void expect_replays_identically(const std::string& dir) {
 TEST_F(Hdf5DatasetTest, ActEpisodesReplayToTheirLogsBitForBit) { expect_replays_identically(act_); }
 TEST_F(Hdf5DatasetTest, RobomimicEpisodesReplayToTheirLogsBitForBit) { expect_replays_identically(robomimic_); }
 
+TEST_F(Hdf5DatasetTest, OneThreadWritesTheSameBytesAsTwo) {
+  const std::string dir = ::hribench::testing::temp_dir("hdf5", "act_one_thread");
+  CollectRequest r;
+  r.tasks = "handover_r2h,stop_go";
+  r.episodes = 1;
+  r.size = 32;
+  r.threads = 1;
+  r.format = "act-hdf5";
+  r.out = dir;
+  collect(r);
+  for (const std::string task : {"handover_r2h", "stop_go"}) {
+    const std::string one = ::hribench::testing::read_text(act_episode_path(dir, task, 0));
+    EXPECT_FALSE(one.empty());
+    EXPECT_TRUE(one == ::hribench::testing::read_text(act_episode_path(act_, task, 0))) << task;
+  }
+}
+
 TEST(RobomimicActionScale, IsAPowerOfTwoAtLeastTheBound) {
   EXPECT_EQ(robomimic_action_scale({-0.05f, -0.25f, 0.0f, -2.9f}, {0.05f, 0.25f, 1.0f, 2.9f}),
             (std::vector<float>{0.0625f, 0.25f, 1.0f, 4.0f}));
