@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "gen/pool.h"
 #include "io/collect.h"
@@ -51,16 +52,20 @@ CollectSummary small_collect(const std::string& dir, const std::string& format) 
   return collect(r);
 }
 
+// Each format's small collect, made once per process on first use (ctest runs each test in
+// its own process: it makes only the collect the test reads).
 class Hdf5DatasetTest : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    act_ = ::hribench::testing::temp_dir("hdf5", "act");
-    robomimic_ = ::hribench::testing::temp_dir("hdf5", "robomimic");
-    small_collect(act_, "act-hdf5");
-    small_collect(robomimic_, "robomimic");
+  static const std::string& dataset(const std::string& format) {
+    static std::map<std::string, std::string> dirs;
+    if (dirs.count(format) == 0) {
+      dirs[format] = ::hribench::testing::temp_dir("hdf5", format);
+      small_collect(dirs[format], format);
+    }
+    return dirs[format];
   }
-  static inline std::string act_;
-  static inline std::string robomimic_;
+  static const std::string& act() { return dataset("act-hdf5"); }
+  static const std::string& robomimic() { return dataset("robomimic"); }
 };
 
 // What ACT's utils.py load_data / EpisodicDataset read, and our annotations.
@@ -109,7 +114,7 @@ print('ok', {t: list(l) for t, l in lengths.items()})
 )";
 
 TEST_F(Hdf5DatasetTest, ActFilesHoldWhatActsLoaderReads) {
-  const PythonResult r = run_python(kActCheck, act_);
+  const PythonResult r = run_python(kActCheck, act());
   EXPECT_EQ(r.exit_code, 0) << r.output;
   // The task's horizon: stop_go's 35 s at 20 Hz.
   EXPECT_NE(r.output.find("'stop_go': [701]"), std::string::npos) << r.output;
@@ -156,9 +161,9 @@ print('ok', total)
 )";
 
 TEST_F(Hdf5DatasetTest, RobomimicFileHoldsWhatRobomimicReads) {
-  const PythonResult r = run_python(kRobomimicCheck, robomimic_);
+  const PythonResult r = run_python(kRobomimicCheck, robomimic());
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_FALSE(fs::exists(fs::path(robomimic_) / "hribench" / "robomimic" / "demo_0.hdf5"));  // copied, removed
+  EXPECT_FALSE(fs::exists(fs::path(robomimic()) / "hribench" / "robomimic" / "demo_0.hdf5"));  // copied, removed
 }
 
 // The actions read back with libhdf5 replay (replay_dataset: each episode's spec from the pool,
@@ -177,8 +182,8 @@ void expect_replays_identically(const std::string& dir) {
   EXPECT_TRUE(report.differing.empty());
 }
 
-TEST_F(Hdf5DatasetTest, ActEpisodesReplayToTheirLogsBitForBit) { expect_replays_identically(act_); }
-TEST_F(Hdf5DatasetTest, RobomimicEpisodesReplayToTheirLogsBitForBit) { expect_replays_identically(robomimic_); }
+TEST_F(Hdf5DatasetTest, ActEpisodesReplayToTheirLogsBitForBit) { expect_replays_identically(act()); }
+TEST_F(Hdf5DatasetTest, RobomimicEpisodesReplayToTheirLogsBitForBit) { expect_replays_identically(robomimic()); }
 
 TEST_F(Hdf5DatasetTest, OneThreadWritesTheSameBytesAsTwo) {
   const std::string dir = ::hribench::testing::temp_dir("hdf5", "act_one_thread");
@@ -193,7 +198,7 @@ TEST_F(Hdf5DatasetTest, OneThreadWritesTheSameBytesAsTwo) {
   for (const std::string task : {"handover_r2h", "stop_go"}) {
     const std::string one = ::hribench::testing::read_text(act_episode_path(dir, task, 0));
     EXPECT_FALSE(one.empty());
-    EXPECT_TRUE(one == ::hribench::testing::read_text(act_episode_path(act_, task, 0))) << task;
+    EXPECT_TRUE(one == ::hribench::testing::read_text(act_episode_path(act(), task, 0))) << task;
   }
 }
 
