@@ -2,7 +2,7 @@
 // a recorder that changes nothing in the episode and records each frame with the action
 // executed after it, bad options refused before anything is written, a write failure mid-run
 // (the episode discarded, those before it kept) followed by --resume (nothing duplicated),
-// and --keep all (failures kept and labelled).
+// --keep all (failures kept and labelled) and --force (the dataset replaced).
 
 #include "io/collect.h"
 
@@ -327,6 +327,15 @@ TEST(Collect, KeepsOnlySuccessesUnlessAskedForAllWhichLabelsFailures) {
   const std::vector<RecordedEpisode> kept = read_robomimic_episodes(r.out);
   ASSERT_EQ(kept.size(), 2u);
   EXPECT_EQ(kept[0].actions.size(), 3u);
+
+  // --force replaces the dataset: kept only successes now, none.
+  r.keep = "success";
+  EXPECT_NE(error_of([&] { collect(r); }).find("already holds a dataset"), std::string::npos);
+  r.force = true;
+  EXPECT_EQ(collect(r).kept, 0u);
+  EXPECT_EQ(read_robomimic_episodes(r.out).size(), 0u);
+  EXPECT_EQ(read_json(collect_state_path(r.out)).at("options").at("keep"), "success");
+  r.force = false;
 
   // An episode that failed before its first action shows nothing: never kept.
   register_failing_policy("test_fails_at_once", 0);
