@@ -16,7 +16,6 @@
 #include "script/sample.h"
 
 namespace hribench::gen {
-namespace {
 
 std::vector<std::string> split_list(const std::string& text) {
   std::vector<std::string> items;
@@ -28,8 +27,6 @@ std::vector<std::string> split_list(const std::string& text) {
   }
   return items;
 }
-
-}  // namespace
 
 eval::RunPlan plan_evaluation(const EvalRequest& o, const eval::PolicyMaker& make,
                               eval::RunSettings& settings) {

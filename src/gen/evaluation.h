@@ -34,6 +34,9 @@ struct EvalRequest {
   std::string shard;                  // --shard i/N, or empty: every job (eval/shard.h)
 };
 
+// The items of a comma-separated flag value ("I1,C2"), empty items dropped.
+std::vector<std::string> split_list(const std::string& text);
+
 // Checks the request and chooses its episodes; throws core::InputError (where = the flag) for
 // contradictory or bad options, an unknown policy (make throws), tasks that match nothing or
 // an unusable pool. `make` makes the policies of the request's references.

@@ -5,12 +5,12 @@
 #include <array>
 #include <cmath>
 #include <optional>
-#include <sstream>
 
 #include "core/errors.h"
 #include "eval/episode.h"
 #include "eval/script_contract.h"
 #include "eval/script_driver.h"
+#include "gen/evaluation.h"
 #include "model/model.h"
 #include "script/runtime.h"
 #include "script/sample.h"
@@ -115,9 +115,7 @@ std::vector<render::BandRow> video_band(const eval::EpisodeLog& log, size_t step
 
 std::vector<std::string> video_cameras(const std::string& list, const script::EpisodeSpec& spec,
                                        std::string_view where) {
-  std::vector<std::string> cameras;
-  std::stringstream in(list);
-  for (std::string name; std::getline(in, name, ',');) cameras.push_back(name);
+  const std::vector<std::string> cameras = gen::split_list(list);
   if (cameras.empty() || cameras.size() > 2) {
     throw core::InputError(std::string(where), "one or two cameras (agentview or agentview,wrist)",
                            "'" + list + "'");

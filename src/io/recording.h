@@ -34,7 +34,7 @@ struct EpisodeHeader {
   std::string policy;       // the policy reference that produced the actions
   std::string robot;        // "panda"
   int fps = 20;             // control rate, frames per second
-  // Names are GROUP.PART ("joint_pos.panda_joint1", "gripper.opening"): the dimensions of a
+  // Names are GROUP.PART ("joint_pos.<arm joint>", "gripper.opening"): the dimensions of a
   // group are consecutive, so a group is a slice (GR00T's modality.json, ACT's qpos).
   std::vector<std::string> state_names;   // one per dimension of Frame::state
   std::vector<std::string> action_names;  // one per dimension of Frame::action
