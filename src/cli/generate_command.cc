@@ -1,4 +1,4 @@
-// `hribench generate --tasks LIST|all --candidates N --seed S --out DIR [--threads N]
+// `hribench generate --tasks LIST|all --candidates N --seed S --out DIR [--robot NAME] [--threads N]
 // [--executable-by POLICY|none] [--adapt N --eval N --test N] [--resume]`: the generation
 // pipeline of gen/generate.h. Writes the pool folder (gen/pool.h) and prints the report table.
 
@@ -9,6 +9,7 @@
 #include "cli/command.h"
 #include "gen/generate.h"
 #include "gen/pool.h"
+#include "model/robot.h"
 
 namespace hribench::cli {
 namespace {
@@ -19,6 +20,7 @@ struct GenerateArgs {
   uint64_t seed = 0;
   int threads = 1;
   std::string executable_by = "oracle";
+  std::string robot{model::kDefaultRobot};
   gen::SplitSizes splits;
   std::string out;
   bool resume = false;
@@ -30,6 +32,7 @@ int run_generate(const GenerateArgs& a) {
   o.scripts = gen::resolve_task_scripts(a.tasks);
   o.candidates = a.candidates;
   o.seed = a.seed;
+  o.robot = a.robot;
   o.threads = a.threads;
   o.splits = a.splits;
   o.filters.executable_by = a.executable_by;
@@ -49,6 +52,7 @@ HRIB_REGISTER_COMMAND(
       app.add_option("--candidates", a->candidates, "Candidates per task")->check(kNonNegativeWhole);
       app.add_option("--seed", a->seed, "Generation seed (candidate seeds derive from it)")
           ->check(kNonNegativeWhole);
+      app.add_option("--robot", a->robot, "The robot the episodes are sampled for (docs/robots.md)");
       app.add_option("--threads", a->threads, "Worker threads");
       app.add_option("--executable-by", a->executable_by,
                      "Policy that must solve each candidate (the executability filter), or none");

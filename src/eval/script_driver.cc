@@ -96,6 +96,7 @@ const human::Side kSides[2] = {human::Side::kLeft, human::Side::kRight};
 
 model::SceneSpec scene_spec_from_episode(const script::EpisodeSpec& spec) {
   model::SceneSpec scene;
+  scene.robot = spec.robot;
   scene.objects.clear();
   // Platforms first (objects may rest on them).
   for (const script::Entry<script::SceneObject>& entry : spec.scene.objects) {

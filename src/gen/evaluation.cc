@@ -156,7 +156,7 @@ LoggedEpisode load_logged_episode(const std::filesystem::path& run, const std::s
   } else {
     for (const std::string& file : options.value("tasks", std::vector<std::string>{})) {
       const script::Scenario scenario = script::load_scenario(core::resolve_data_path(file).string());
-      if (scenario.task == logged.log.task) candidates.push_back(script::sample(scenario, logged.log.seed));
+      if (scenario.task == logged.log.task) candidates.push_back(script::sample(scenario, logged.log.seed, logged.log.robot));
     }
   }
   for (script::EpisodeSpec& spec : candidates) {

@@ -156,6 +156,7 @@ core::Json generator_json(const GenerateOptions& o, const std::vector<std::strin
   }
   return {{"pool_version", kPoolVersion},
           {"seed", o.seed},
+          {"robot", o.robot},
           {"candidates_per_task", o.candidates},
           {"splits", {{"adapt", o.splits.adapt}, {"eval", o.splits.eval}, {"test", o.splits.test}}},
           {"executable_by", o.filters.executable_by},
@@ -163,12 +164,12 @@ core::Json generator_json(const GenerateOptions& o, const std::vector<std::strin
 }
 
 CandidateRecord judge_candidate(const script::Scenario& scenario, const std::string& task, size_t index,
-                                uint64_t seed, const FilterOptions& filters) {
+                                uint64_t seed, std::string_view robot, const FilterOptions& filters) {
   CandidateRecord r;
   r.task = task;
   r.index = index;
   r.seed = candidate_seed(seed, task, index);
-  const script::EpisodeSpec spec = script::sample(scenario, r.seed);
+  const script::EpisodeSpec spec = script::sample(scenario, r.seed, robot);
   r.hash = script::spec_hash(spec);
   const Verdict verdict = validate_candidate(spec, filters);
   r.failed = verdict.failed;
@@ -242,6 +243,11 @@ GenerationReport generate(const GenerateOptions& o) {
   // Bad options first, before anything is written.
   if (o.scripts.empty()) throw core::InputError("--tasks", "at least one task", "none");
   if (o.threads <= 0) throw core::InputError("--threads", "a positive number", std::to_string(o.threads));
+  try {
+    model::robot_by_name(o.robot);
+  } catch (const core::InputError& e) {
+    throw core::InputError("--robot", e.expected(), e.got());
+  }
   if (o.splits.adapt == 0 || o.splits.eval == 0) {
     throw core::InputError("--splits", "adapt and eval sizes > 0",
                            std::to_string(o.splits.adapt) + " and " + std::to_string(o.splits.eval));
@@ -289,7 +295,7 @@ GenerationReport generate(const GenerateOptions& o) {
       todo.size(), o.threads,
       [&](size_t job) {
         const auto [t, i] = todo[job];
-        return judge_candidate(scenarios[t], names[t], i, o.seed, o.filters);
+        return judge_candidate(scenarios[t], names[t], i, o.seed, o.robot, o.filters);
       },
       [&](size_t, const CandidateRecord& r) {
         lines << core::canonical_json(to_json(r)) << "\n" << std::flush;
@@ -354,7 +360,7 @@ GenerationReport generate(const GenerateOptions& o) {
     fs::create_directories(dir);
     for (size_t k = 0; k < valid[t].size(); ++k) {
       const CandidateRecord& r = *valid[t][k];
-      const script::EpisodeSpec spec = script::sample(scenarios[t], r.seed);
+      const script::EpisodeSpec spec = script::sample(scenarios[t], r.seed, o.robot);
       // A resumed generation whose scripts changed since the interruption: refuse, not mix.
       if (script::spec_hash(spec) != r.hash) {
         throw core::InputError::Message(

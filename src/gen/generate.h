@@ -19,6 +19,7 @@
 #include "core/json.h"
 #include "gen/filters.h"
 #include "gen/pool.h"
+#include "model/robot.h"
 #include "script/scenario.h"
 
 namespace hribench::gen {
@@ -27,6 +28,7 @@ struct GenerateOptions {
   std::vector<std::string> scripts;  // task script files, in report order
   size_t candidates = 150;           // per task
   uint64_t seed = 0;
+  std::string robot{model::kDefaultRobot};  // the robot the episodes are sampled for
   int threads = 1;
   SplitSizes splits;
   FilterOptions filters;
@@ -68,12 +70,12 @@ core::Json to_json(const GenerationReport& report);
 std::string report_markdown(const GenerationReport& report);
 
 // The options that define a pool (written into the manifest and options.json): version,
-// seed, candidates, split sizes, executable_by, and each task's name and script.
+// seed, robot, candidates, split sizes, executable_by, and each task's name and script.
 core::Json generator_json(const GenerateOptions& options, const std::vector<std::string>& task_names);
 
-// Judges one candidate: samples it and runs the filters.
+// Judges one candidate: samples it for `robot` and runs the filters.
 CandidateRecord judge_candidate(const script::Scenario& scenario, const std::string& task, size_t index,
-                                uint64_t seed, const FilterOptions& filters);
+                                uint64_t seed, std::string_view robot, const FilterOptions& filters);
 
 // Runs the whole pipeline and writes the pool. Throws core::InputError, writing nothing, for
 // a script that fails check, an unknown executable_by policy, candidates < splits.total()

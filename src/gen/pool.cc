@@ -11,6 +11,7 @@
 #include "core/errors.h"
 #include "core/paths.h"
 #include "core/rng.h"
+#include "model/robot.h"
 #include "script/check.h"
 #include "script/sample.h"
 
@@ -97,6 +98,17 @@ Manifest manifest_from_json(const core::Json& json, std::string_view source) {
   }
   manifest.pool_version = kPoolVersion;
   manifest.generator = core::json_member(json, "generator", where);
+  if (!manifest.generator.is_object()) {
+    throw core::InputError(where + " (generator)", "an object", core::json_kind(manifest.generator));
+  }
+  const std::string robot_where = where + " (generator.robot)";
+  const std::string robot =
+      core::json_string(core::json_member(manifest.generator, "robot", where + " (generator)"), robot_where);
+  try {
+    model::robot_by_name(robot);
+  } catch (const core::InputError& e) {
+    throw core::InputError(robot_where, e.expected(), e.got());
+  }
   const core::Json& episodes = core::json_member(json, "episodes", where);
   if (!episodes.is_array()) throw core::InputError(where + " (episodes)", "an array", core::json_kind(episodes));
   std::set<std::pair<std::string, uint64_t>> seeds;
@@ -119,6 +131,8 @@ Manifest manifest_from_json(const core::Json& json, std::string_view source) {
   }
   return manifest;
 }
+
+std::string pool_robot(const Manifest& manifest) { return manifest.generator.at("robot").get<std::string>(); }
 
 Manifest read_manifest(const std::string& dir) {
   const fs::path path = core::resolve_data_path(fs::path(dir) / "manifest.json");
@@ -218,7 +232,7 @@ std::vector<script::EpisodeSpec> pool_episodes(const Manifest& manifest, Split s
     if (it == scenarios.end()) {
       it = scenarios.emplace(e.script, script::load_scenario(core::resolve_data_path(e.script).string())).first;
     }
-    script::EpisodeSpec spec = script::sample(it->second, e.seed);
+    script::EpisodeSpec spec = script::sample(it->second, e.seed, pool_robot(manifest));
     const std::string hash = script::spec_hash(spec);
     if (hash != e.hash) {
       throw core::InputError::Message(

@@ -28,8 +28,10 @@ namespace hribench::gen {
 // Any change to the pipeline that alters the pool must bump this. 1: pool/v1 (git fae9ab2-
 // 47ceb8a); 2: C2's moving receiving hand and the oracle's X1, I2, C2 and C4 fixes (pool/v2,
 // git f674cb8-517d527); 3: the oracle's head clearance in handovers, C1's take, X2's lying
-// bottles, I5's lowering near a person and the cube's grasp faces (pool/v3).
-inline constexpr int kPoolVersion = 3;
+// bottles, I5's lowering near a person and the cube's grasp faces (pool/v3, git 89f84a7-
+// 6e6b94a); 4: the robot in every spec and manifest, the person's bent-knee lean and fingers,
+// the reframed agentview, the at_rest filter and the visibility filter at 224 px (pool/v4).
+inline constexpr int kPoolVersion = 4;
 
 enum class Split { kAdapt, kEval, kTest };
 std::string_view to_string(Split split);  // "adapt" | "eval" | "test"
@@ -73,8 +75,12 @@ struct Manifest {
 
 core::Json to_json(const Manifest& manifest);
 // Throws core::InputError (where = "SOURCE (key.path)") for a malformed manifest, a pool
-// version this build does not know, or two episodes sharing a seed within a task.
+// version this build does not know, a generator without a known robot, or two episodes sharing
+// a seed within a task.
 Manifest manifest_from_json(const core::Json& json, std::string_view source);
+// The robot the pool's episodes were sampled for (generator.robot; manifest_from_json checked
+// it names a known robot description).
+std::string pool_robot(const Manifest& manifest);
 // DIR/manifest.json (DIR relative to the working directory or else to the data root); throws
 // core::InputError when missing or malformed.
 Manifest read_manifest(const std::string& dir);

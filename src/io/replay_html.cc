@@ -563,7 +563,7 @@ model::Model model_of_log(const eval::EpisodeLog& log) {
                            "'" + log.task + "'");
   }
   const script::EpisodeSpec spec =
-      script::sample(script::load_scenario(core::resolve_data_path(task->script).string()), log.seed);
+      script::sample(script::load_scenario(core::resolve_data_path(task->script).string()), log.seed, log.robot);
   if (const std::string hash = script::spec_hash(spec); hash != log.spec_hash) {
     throw core::InputError(task->script,
                            fmt::format("the script the episode ran (seed {} -> spec hash {})", log.seed, log.spec_hash),

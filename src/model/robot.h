@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "script/scenario.h"
 
 namespace hribench::model {
 
@@ -177,7 +178,7 @@ struct Robot {
 };
 
 // The robot an episode uses when it names none.
-inline constexpr std::string_view kDefaultRobot = "panda";
+inline constexpr std::string_view kDefaultRobot = script::kDefaultRobot;
 
 // The Franka Emika Panda with the Franka Hand (panda.cc).
 const Robot& panda();

@@ -165,12 +165,13 @@ void default_hands(EpisodeSpec& spec) {
 
 }  // namespace
 
-EpisodeSpec sample(const Scenario& scenario, uint64_t seed) {
+EpisodeSpec sample(const Scenario& scenario, uint64_t seed, std::string_view robot) {
   const core::Rng root(seed);
   EpisodeSpec spec;
   spec.hribench = scenario.hribench;
   spec.task = scenario.task;
   spec.role = scenario.role;
+  spec.robot = std::string(robot);
   spec.seed = seed;
   spec.horizon = scenario.horizon;
 

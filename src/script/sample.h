@@ -12,8 +12,9 @@
 namespace hribench::script {
 
 // Requires a scenario that script::check found clean (otherwise throws InputError for what it
-// cannot resolve).
-EpisodeSpec sample(const Scenario& scenario, uint64_t seed);
+// cannot resolve). `robot` is recorded in the spec (and so in its hash); the draws do not
+// depend on it.
+EpisodeSpec sample(const Scenario& scenario, uint64_t seed, std::string_view robot = kDefaultRobot);
 
 // SHA-256 (hex) of the spec's canonical JSON.
 std::string spec_hash(const EpisodeSpec& spec);

@@ -393,13 +393,19 @@ struct Scenario {
   }
 };
 
-// One episode: a Scenario with one variant chosen and every random value drawn. Serialises
-// to JSON (script/schema_io.h), reloads identically, and has a content hash (script/sample.h).
+// The robot an episode is sampled for when none is named (its description: model/robot.h,
+// docs/robots.md).
+inline constexpr std::string_view kDefaultRobot = "panda";
+
+// One episode: a Scenario with one variant chosen and every random value drawn, for one robot.
+// Serialises to JSON (script/schema_io.h), reloads identically, and has a content hash
+// (script/sample.h) that therefore covers the robot.
 struct EpisodeSpec {
   static constexpr const char* kSchemaName = "episode";
   int hribench = 1;
   std::string task;
   std::string role;
+  std::string robot{kDefaultRobot};  // the robot description's name (model::robot_by_name)
   uint64_t seed = 0;
   std::string variant;  // "" when the script has no variants
   std::string instruction;
@@ -416,6 +422,7 @@ struct EpisodeSpec {
     v.req("hribench", hribench, "schema version: 1");
     v.req("task", task, "the task's name");
     v.req("role", role, "instructor, collaborator or intruder");
+    v.req("robot", robot, "the robot it was sampled for (docs/robots.md)");
     v.req("seed", seed, "the seed it was sampled with");
     v.req("variant", variant, "the chosen variant, or empty");
     v.req("instruction", instruction, "the filled-in instruction");

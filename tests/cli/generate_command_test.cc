@@ -49,6 +49,7 @@ TEST_F(GenerateCommandTest, WritesManifestReportAndPrintsTheTable) {
   const nlohmann::json manifest = nlohmann::json::parse(read_text(fs::path(dir_) / "manifest.json"));
   EXPECT_EQ(manifest.at("pool_version"), gen::kPoolVersion);
   EXPECT_EQ(manifest.at("generator").at("executable_by"), "none");
+  EXPECT_EQ(manifest.at("generator").at("robot"), "panda");
   EXPECT_GE(manifest.at("episodes").size(), 3u);
   EXPECT_TRUE(fs::exists(fs::path(dir_) / "report.json"));
   EXPECT_TRUE(fs::exists(fs::path(dir_) / "report.md"));
@@ -113,6 +114,15 @@ TEST(GenerateCommand, TooFewCandidatesSaysHowManyAreMissing) {
   EXPECT_EQ(count_lines(r.output), 1) << r.output;
   EXPECT_NE(r.output.find("30 per task cannot fill the splits (50 adapt + 10 eval + 5 test = 65): 35 missing"),
             std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(GenerateCommand, AnUnknownRobotIsRefused) {
+  const std::string dir = temp_dir("robot");
+  const auto r = run_hribench("generate --tasks I1 --robot ur5 --out " + dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_NE(r.output.find("--robot: expected one of panda, got 'ur5'"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir));
 }
 

@@ -214,7 +214,7 @@ TEST(ReleasedPool, ASampleOfEveryCommittedPoolIsReproduced) {
     for (const PoolEntry& e : manifest.episodes) {
       if (e.split != Split::kEval || sampled[e.task]) continue;
       sampled[e.task] = true;
-      const CandidateRecord r = judge_candidate(script::load_scenario(e.script), e.task, e.candidate, seed, filters);
+      const CandidateRecord r = judge_candidate(script::load_scenario(e.script), e.task, e.candidate, seed, pool_robot(manifest), filters);
       const std::string what = entry.path().string() + ": " + e.task + " candidate " + std::to_string(e.candidate);
       EXPECT_EQ(r.seed, e.seed) << what;
       EXPECT_EQ(r.hash, e.hash) << what << ": the pool changed; regenerate it and bump kPoolVersion";

@@ -52,7 +52,7 @@ TEST(Pool, SplitsHaveTheirSizesAndAreDeterministic) {
 
 Manifest small_manifest() {
   Manifest m;
-  m.generator = {{"seed", 3}};
+  m.generator = {{"seed", 3}, {"robot", "panda"}};
   m.episodes.push_back({"point_pick", "tasks/I1_point_pick.yaml", Split::kEval, 4, 123456789012345ULL, "ab"});
   m.episodes.push_back({"point_pick", "tasks/I1_point_pick.yaml", Split::kAdapt, 9, 42, "cd"});
   return m;
@@ -86,9 +86,21 @@ TEST(Pool, ManifestOfAnotherVersionOrWithSharedSeedsIsRefused) {
   EXPECT_THAT(error_of([] { read_manifest("/nonexistent-pool"); }), HasSubstr("holds no pool"));
 }
 
+TEST(Pool, ManifestNamesAKnownRobot) {
+  EXPECT_EQ(pool_robot(manifest_from_json(to_json(small_manifest()), "m.json")), "panda");
+  core::Json json = to_json(small_manifest());
+  json["generator"].erase("robot");
+  EXPECT_THAT(error_of([&] { manifest_from_json(json, "m.json"); }), HasSubstr("m.json (generator)"));
+  EXPECT_THAT(error_of([&] { manifest_from_json(json, "m.json"); }), HasSubstr("robot"));
+  json["generator"]["robot"] = "ur5";
+  EXPECT_EQ(error_of([&] { manifest_from_json(json, "m.json"); }),
+            "m.json (generator.robot): expected one of panda, got 'ur5'");
+}
+
 TEST(Pool, EpisodesAreResampledAndCheckedAgainstTheManifestHash) {
   const script::Scenario scenario = script::load_scenario("tasks/I1_point_pick.yaml");
   Manifest m;
+  m.generator = {{"robot", "panda"}};
   const uint64_t seed = candidate_seed(0, "point_pick", 3);
   m.episodes.push_back({"point_pick", "tasks/I1_point_pick.yaml", Split::kEval, 3, seed,
                         script::spec_hash(script::sample(scenario, seed))});

@@ -28,11 +28,25 @@ TEST(SampleTest, SameSeedGivesTheSameSpecAndHash) {
   EXPECT_EQ(spec_hash(a).size(), 64U);
 }
 
+// The robot is part of the spec, and so of its hash, but no draw depends on it.
+TEST(SampleTest, TheRobotIsRecordedAndChangesOnlyTheHash) {
+  const Scenario scenario = load_scenario(kHandover);
+  const EpisodeSpec panda = sample(scenario, 42);
+  EpisodeSpec other = sample(scenario, 42, "other_arm");
+  EXPECT_EQ(panda.robot, "panda");
+  EXPECT_EQ(other.robot, "other_arm");
+  EXPECT_NE(spec_hash(panda), spec_hash(other));
+  EXPECT_NE(spec_to_text(other).find("\"robot\": \"other_arm\""), std::string::npos);
+  EXPECT_EQ(spec_from_text(spec_to_text(other), "spec"), other);
+  other.robot = panda.robot;
+  EXPECT_EQ(other, panda);
+}
+
 // Pinned across processes, builds and machines: a change here means the released episode pool
 // changes (every spec drawn from the scenarios changes), so the pool's version must be bumped.
 TEST(SampleTest, TheHandoverAtSeed42HasItsPinnedHash) {
   EXPECT_EQ(spec_hash(sample(load_scenario(kHandover), 42)),
-            "2ef221087667f968750d8b862478e91180f59d8150affd0370d9fcf714d6589e");
+            "8c6f98592583884f59081344912ca7be80f438804459cfa563de9197bd6bce4c");
 }
 
 // Distractors keep their footprint circles 2 cm clear of every other object's (the bin's
