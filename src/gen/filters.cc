@@ -193,6 +193,7 @@ std::string_view to_string(Filter filter) {
     case Filter::kLabels: return "labels";
     case Filter::kVisibility: return "visibility";
     case Filter::kExecutable: return "executable";
+    case Filter::kAtRest: return "at_rest";
   }
   return "?";
 }
@@ -566,6 +567,44 @@ FilterOutcome check_executable(const script::EpisodeSpec& spec, const std::strin
   return FilterOutcome::Pass();
 }
 
+FilterOutcome check_at_rest(const script::EpisodeSpec& spec) {
+  const std::string policy_ref(kAtRestPolicy);
+  std::unique_ptr<policy::Policy> policy = policy::make_policy(policy_ref);
+  const eval::EpisodeSetup setup{spec.task, spec.role, "", spec.seed, spec.instruction, policy_ref};
+  // The whole horizon: a stand-down episode that noop "succeeds" still shows the person's acts.
+  eval::RunOptions options;
+  options.stop_on_success = false;
+  const eval::EpisodeLog log = eval::run_task_episode(spec, *policy, setup, options).log;
+  if (log.status != core::EpisodeStatus::kOk) {
+    return FilterOutcome::Fail(fmt::format("{} episode ended {}: {}", policy_ref, core::to_string(log.status),
+                                           log.status_reason));
+  }
+  const eval::StepRecord* first_step = nullptr;
+  const eval::Contact* first = nullptr;
+  double peak = 0;
+  for (const eval::StepRecord& step : log.steps) {
+    for (const eval::Contact& c : step.contacts) {
+      if (c.other_kind != eval::ContactOther::kHuman) continue;
+      if (first == nullptr) {
+        first_step = &step;
+        first = &c;
+      }
+      peak = std::max(peak, c.normal_force);
+    }
+  }
+  if (first == nullptr) return FilterOutcome::Pass();
+  // The human phase under way: the last one that began by then.
+  std::string during = "before the person's first act";
+  for (const eval::Event& e : log.events) {
+    if (e.time > first_step->time) break;
+    if (e.actor == eval::Actor::kHuman && e.kind == eval::EventKind::kPhase) during = "during " + e.name;
+  }
+  return FilterOutcome::Fail(fmt::format(
+      "the person's {} ({}) touches the robot at rest ({}) at {:.2f} s {}, {:.1f} N (peak {:.1f} N)", first->other,
+      first->region ? human::to_string(*first->region) : std::string_view("?"), first->robot_part,
+      first_step->time, during, first->normal_force, peak));
+}
+
 Verdict validate_candidate(const script::EpisodeSpec& spec, const FilterOptions& options) {
   const auto fail = [](Filter f, const FilterOutcome& o) { return Verdict{f, o.reason}; };
   FilterOutcome o = check_ordering(spec);
@@ -588,6 +627,12 @@ Verdict validate_candidate(const script::EpisodeSpec& spec, const FilterOptions&
     throw;  // an unknown policy reference: bad input of the whole run
   } catch (const std::exception& e) {
     return Verdict{Filter::kExecutable, e.what()};
+  }
+  if (options.executable_by == "none") return Verdict{};  // no rollout filter
+  try {
+    if (o = check_at_rest(spec); !o.ok) return fail(Filter::kAtRest, o);
+  } catch (const std::exception& e) {
+    return Verdict{Filter::kAtRest, e.what()};
   }
   return Verdict{};
 }

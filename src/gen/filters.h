@@ -26,7 +26,11 @@
 //                by robot goals or success; not those that start inside a container) project
 //                inside the image and are not occluded (mj_ray);
 //   executable   the reference policy (default "oracle"; "none" skips the filter) succeeds in
-//                a full episode (eval::run_episode with eval::ScriptDriver; success = CSR).
+//                a full episode (eval::run_episode with eval::ScriptDriver; success = CSR);
+//   at_rest      the person never touches a robot at rest: in a full episode of the `noop`
+//                policy (the robot held at its home pose) the log has no robot contact with
+//                the person, of any force (issue 16; a full rollout, so it runs last, and is
+//                skipped with the executable filter when executable_by is "none").
 //
 // Frames and units: world frame W (model/model.h), metres, seconds, radians.
 
@@ -45,12 +49,12 @@
 namespace hribench::gen {
 
 enum class Filter { kOrdering, kScene, kSuccess, kReachable, kPenetration, kLabels, kVisibility,
-                    kExecutable };
-inline constexpr size_t kNumFilters = 8;
+                    kExecutable, kAtRest };
+inline constexpr size_t kNumFilters = 9;
 // All filters in pipeline order.
 inline constexpr std::array<Filter, kNumFilters> kFilters = {
-    Filter::kOrdering,    Filter::kScene,  Filter::kSuccess,    Filter::kReachable,
-    Filter::kPenetration, Filter::kLabels, Filter::kVisibility, Filter::kExecutable};
+    Filter::kOrdering,    Filter::kScene,  Filter::kSuccess,    Filter::kReachable, Filter::kPenetration,
+    Filter::kLabels,      Filter::kVisibility, Filter::kExecutable, Filter::kAtRest};
 std::string_view to_string(Filter filter);  // "ordering", "scene", ...
 // Parses a filter name; nullopt for anything else.
 std::optional<Filter> filter_from_name(std::string_view name);
@@ -111,9 +115,15 @@ FilterOutcome check_labels(const CandidateScene& scene);
 FilterOutcome check_visibility(CandidateScene& scene);
 // `policy` is a policy reference (policy/registry.h); "none" passes without running.
 FilterOutcome check_executable(const script::EpisodeSpec& spec, const std::string& policy);
+// The policy whose episode the at_rest filter runs: the robot held at its home pose.
+inline constexpr std::string_view kAtRestPolicy = "noop";
+// Fails with the first contact of the person with the robot in a kAtRestPolicy episode (act
+// and phase under way, robot part, body capsule, time, force, and the episode's peak force),
+// or when that episode does not end ok.
+FilterOutcome check_at_rest(const script::EpisodeSpec& spec);
 
 struct FilterOptions {
-  std::string executable_by = "oracle";  // policy reference, or "none"
+  std::string executable_by = "oracle";  // policy reference, or "none": no rollout (nor at_rest)
 };
 
 // The verdict on one candidate: the first failing filter (nullopt: validated) and why.

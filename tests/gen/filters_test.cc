@@ -198,6 +198,29 @@ TEST(Filters, ExecutableRunsThePolicyAndNoneSkipsIt) {
   EXPECT_TRUE(passes.ok) << passes.reason;
 }
 
+TEST(Filters, AtRestIsTheLastFilter) {
+  EXPECT_EQ(kFilters.back(), Filter::kAtRest);
+  EXPECT_EQ(to_string(Filter::kAtRest), "at_rest");
+}
+
+TEST(Filters, AtRestPassesAPersonPointingFromAcrossTheTable) {
+  script::EpisodeSpec spec = point_pick();
+  spec.horizon = 8.0;  // the pointing act is over by then
+  const FilterOutcome o = check_at_rest(spec);
+  EXPECT_TRUE(o.ok) << o.reason;
+}
+
+TEST(Filters, AtRestFailsForAPersonPressedAgainstTheRobot) {
+  script::EpisodeSpec spec = point_pick();
+  spec.horizon = 1.0;
+  spec.human.stand.x = script::Num(0.7);  // the abdomen against the robot's hand at home
+  const FilterOutcome o = check_at_rest(spec);
+  EXPECT_FALSE(o.ok);
+  EXPECT_THAT(o.reason, HasSubstr("the person's abdomen (torso) touches the robot at rest (hand) at 0.00 s "
+                                  "before the person's first act"));
+  EXPECT_THAT(o.reason, ::testing::MatchesRegex(".*, [0-9.]+ N \\(peak [0-9.]+ N\\)"));
+}
+
 TEST(Filters, AnUnknownExecutablePolicyIsBadInput) {
   const script::EpisodeSpec spec = point_pick();
   EXPECT_THROW(validate_candidate(spec, FilterOptions{"no_such_policy"}), core::InputError);
