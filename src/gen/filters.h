@@ -72,6 +72,14 @@ inline constexpr double kPlanFps = 10;                 // frames/s of the planne
 inline constexpr double kCueRegionRadius = 0.08;       // m, pointing ray to the target's centre
 inline constexpr double kLabelStillSpeed = 0.2;        // m/s (tremor up to 2 mm at 8-12 Hz)
 inline constexpr double kImageMargin = 0.95;           // fraction of the half field of view
+// The cue judged at the resolution policies see (issue 16): agentview at kCueImageSize px
+// square. What a cue needs to be read there (docs/generation.md): the cue hand and each key
+// object at least so many pixels across (the smaller side of the rectangle holding their
+// projection), and a pointed target's projected centre this far from every other object's.
+inline constexpr int kCueImageSize = 224;                  // px
+inline constexpr double kMinCueHandPixels = 7;             // px
+inline constexpr double kMinKeyObjectPixels = 5;           // px
+inline constexpr double kMinPointedSeparationPixels = 12;  // px
 // The shared workspace: the middle of the table, up to 0.5 m above it.
 inline const human::Box kWorkspace{core::Vec3(0.15, -0.45, model::kTableTopZ),
                                    core::Vec3(0.85, 0.45, model::kTableTopZ + 0.5)};

@@ -205,6 +205,10 @@ core::Json to_json(const GenerationReport& report) {
       {"cue_region_radius_m", kCueRegionRadius},
       {"label_still_speed_mps", kLabelStillSpeed},
       {"image_margin", kImageMargin},
+      {"cue_image_size_px", kCueImageSize},
+      {"min_cue_hand_px", kMinCueHandPixels},
+      {"min_key_object_px", kMinKeyObjectPixels},
+      {"min_pointed_separation_px", kMinPointedSeparationPixels},
       {"at_rest_policy", std::string(kAtRestPolicy)}};
   return {{"generator", report.generator}, {"filters", filters}, {"constants", constants},
           {"tasks", tasks},                {"total", row(report.total)}};
