@@ -24,7 +24,10 @@
 //                of each cue's phase) the cue hand (its palm, wrist or index tip; the other
 //                hand and what the hands hold count as the hand) and every key object (named
 //                by robot goals or success; not those that start inside a container) project
-//                inside the image and are not occluded (mj_ray);
+//                inside the image and are not occluded (mj_ray); and at the resolution policies
+//                see (kCueImageSize px square) each key object is at least kMinKeyObjectPixels
+//                across, the cue hand kMinCueHandPixels, and a pointed target's centre is
+//                kMinPointedSeparationPixels from every other object's;
 //   executable   the reference policy (default "oracle"; "none" skips the filter) succeeds in
 //                a full episode (eval::run_episode with eval::ScriptDriver; success = CSR);
 //   at_rest      the person never touches a robot at rest: in a full episode of the `noop`
