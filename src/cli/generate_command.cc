@@ -55,7 +55,8 @@ HRIB_REGISTER_COMMAND(
       app.add_option("--robot", a->robot, "The robot the episodes are sampled for (docs/robots.md)");
       app.add_option("--threads", a->threads, "Worker threads");
       app.add_option("--executable-by", a->executable_by,
-                     "Policy that must solve each candidate (the executability filter), or none");
+                     "Policy that must solve each candidate (the executability filter), or none: no "
+                     "rollout filter (neither executable nor at_rest)");
       app.add_option("--adapt", a->splits.adapt, "Episodes per task in the adapt split")
           ->check(kNonNegativeWhole);
       app.add_option("--eval", a->splits.eval, "Episodes per task in the eval split")

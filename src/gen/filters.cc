@@ -149,6 +149,68 @@ int root_body(const mjModel& m, int geom) {
   return m.body_rootid[m.geom_bodyid[geom]];
 }
 
+// agentview as a policy sees it: the camera's pose, and its focal length in pixels of a
+// kCueImageSize square image.
+struct AgentView {
+  Vec3 p_WC;
+  core::Mat3 R_WC;    // camera frame: looks along -z, y up, x right
+  double tan_half;    // tan of half the field of view
+  double focal_px;
+
+  AgentView(const model::Model& model, const sim::Data& data) {
+    const int cam = model.agentview_camera;
+    const mjData& d = *data.mj;
+    p_WC = Vec3(d.cam_xpos[3 * cam], d.cam_xpos[3 * cam + 1], d.cam_xpos[3 * cam + 2]);
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) R_WC(r, c) = d.cam_xmat[9 * cam + 3 * r + c];
+    }
+    tan_half = std::tan(0.5 * model.m()->cam_fovy[cam] * core::kPi / 180.0);
+    focal_px = 0.5 * kCueImageSize / tan_half;
+  }
+  Vec3 in_camera(const Vec3& p_W) const { return R_WC.transpose() * (p_W - p_WC); }
+  // (u right, v down) in pixels from the image's top left corner, and the depth (m).
+  Vec3 pixel(const Vec3& p_W) const {
+    const Vec3 p_C = in_camera(p_W);
+    const double depth = -p_C.z();
+    return Vec3(0.5 * kCueImageSize + focal_px * p_C.x() / depth, 0.5 * kCueImageSize - focal_px * p_C.y() / depth,
+                depth);
+  }
+};
+
+// A ball in world (a point when radius is 0): what a body shows itself with.
+struct Ball {
+  Vec3 p_W;
+  double radius = 0;
+};
+// Pixels across that `balls` appear in agentview at kCueImageSize: the smaller side of the
+// rectangle that holds their projections (each ball a disc of radius focal * r / depth).
+double pixels_across(const AgentView& view, const std::vector<Ball>& balls) {
+  double u0 = std::numeric_limits<double>::infinity(), v0 = u0, u1 = -u0, v1 = -u0;
+  for (const Ball& b : balls) {
+    const Vec3 px = view.pixel(b.p_W);
+    const double r = view.focal_px * b.radius / px.z();
+    u0 = std::min(u0, px.x() - r);
+    u1 = std::max(u1, px.x() + r);
+    v0 = std::min(v0, px.y() - r);
+    v1 = std::max(v1, px.y() + r);
+  }
+  return balls.empty() ? 0 : std::min(u1 - u0, v1 - v0);
+}
+
+// The corners of an object's bounding box at its current pose.
+std::vector<Ball> box_corners(const sim::Data& data, const model::ObjectInfo& object) {
+  const mjtNum* xpos = data.mj->xpos + 3 * object.body;
+  const core::Pose X_WO{core::quat_from_wxyz(data.mj->xquat + 4 * object.body), Vec3(xpos[0], xpos[1], xpos[2])};
+  const Vec3& h = object.half_extents;
+  std::vector<Ball> corners;
+  for (const double x : {-h.x(), h.x()}) {
+    for (const double y : {-h.y(), h.y()}) {
+      for (const double z : {0.0, 2 * h.z()}) corners.push_back(Ball{X_WO * Vec3(x, y, z), 0});
+    }
+  }
+  return corners;
+}
+
 // Is p_W inside the agentview image (square, kImageMargin of the half field of view) and not
 // hidden behind another geom? `accepts(geom)` says which geoms belong to the target itself.
 template <typename Accepts>
@@ -156,21 +218,16 @@ bool visible(const model::Model& model, const sim::Data& data, const Vec3& p_W, 
              std::string& why) {
   const mjModel& m = *model.m();
   const mjData& d = *data.mj;
-  const int cam = model.agentview_camera;
-  const Vec3 p_WC(d.cam_xpos[3 * cam], d.cam_xpos[3 * cam + 1], d.cam_xpos[3 * cam + 2]);
-  core::Mat3 R_WC;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) R_WC(r, c) = d.cam_xmat[9 * cam + 3 * r + c];
-  }
-  const Vec3 p_C = R_WC.transpose() * (p_W - p_WC);  // camera looks along -z, y up
+  const AgentView view(model, data);
+  const Vec3 p_C = view.in_camera(p_W);
   const double depth = -p_C.z();
-  const double half = std::tan(0.5 * m.cam_fovy[cam] * core::kPi / 180.0) * kImageMargin;
+  const double half = view.tan_half * kImageMargin;
   if (depth <= 0.05 || std::abs(p_C.x()) > half * depth || std::abs(p_C.y()) > half * depth) {
     why = "outside the image";
     return false;
   }
-  const Vec3 ray = p_W - p_WC;
-  mjtNum pnt[3] = {p_WC.x(), p_WC.y(), p_WC.z()};
+  const Vec3 ray = p_W - view.p_WC;
+  mjtNum pnt[3] = {view.p_WC.x(), view.p_WC.y(), view.p_WC.z()};
   mjtNum vec[3] = {ray.x(), ray.y(), ray.z()};
   int geom = -1;
   const mjtNum hit = mj_ray(&m, &d, pnt, vec, nullptr, 1, -1, &geom);
@@ -193,6 +250,7 @@ std::string_view to_string(Filter filter) {
     case Filter::kLabels: return "labels";
     case Filter::kVisibility: return "visibility";
     case Filter::kExecutable: return "executable";
+    case Filter::kAtRest: return "at_rest";
   }
   return "?";
 }
@@ -497,6 +555,31 @@ FilterOutcome check_visibility(CandidateScene& scene) {
         !visible(model, data, p_W + q * Vec3(0, 0, object.half_extents.z()), own, why_top)) {
       return FilterOutcome::Fail(fmt::format("{} is not visible in agentview: {}", object.name, why));
     }
+    const double across = pixels_across(AgentView(model, data), box_corners(data, object));
+    if (across < kMinKeyObjectPixels) {
+      return FilterOutcome::Fail(fmt::format("{} is {:.1f} px across in agentview at {} px, under {} px",
+                                             object.name, across, kCueImageSize, kMinKeyObjectPixels));
+    }
+  }
+  // A pointed target stands apart from every other object in the image.
+  const AgentView view(model, data);
+  for (const PlannedAct& plan : scene.plans) {
+    const script::Act& act = spec.acts[plan.act].value;
+    if (!act.label || act.label->ray.empty() || !act.label->through) continue;
+    const int target = model.object_index(act.label->through->value());
+    if (target < 0) continue;  // the labels filter names it
+    const Vec3 p_target = view.pixel(object_centre(model.objects[static_cast<size_t>(target)]));
+    for (size_t o = 0; o < model.objects.size(); ++o) {
+      if (static_cast<int>(o) == target) continue;
+      const Vec3 p_other = view.pixel(object_centre(model.objects[o]));
+      const double apart = std::hypot(p_other.x() - p_target.x(), p_other.y() - p_target.y());
+      if (apart < kMinPointedSeparationPixels) {
+        return FilterOutcome::Fail(fmt::format(
+            "{}'s pointed target {} is {:.1f} px from {} in agentview at {} px, under {} px",
+            spec.acts[plan.act].name, model.objects[static_cast<size_t>(target)].name, apart,
+            model.objects[o].name, kCueImageSize, kMinPointedSeparationPixels));
+      }
+    }
   }
   // The cue hand in the middle of each cue's phase.
   for (const PlannedAct& plan : scene.plans) {
@@ -542,6 +625,23 @@ FilterOutcome check_visibility(CandidateScene& scene) {
       return FilterOutcome::Fail(fmt::format("the cue hand of {} ({}) is not visible in agentview: {}",
                                              spec.acts[plan.act].name, act.cue->at, why));
     }
+    // Its capsules (palm and fingers), as large as the cue needs.
+    const std::string_view prefix = side == human::Side::kLeft ? "left_" : "right_";
+    std::vector<Ball> hand;
+    for (size_t i = 0; i < model.human_capsules.size(); ++i) {
+      const human::BodyCapsule& c = model.human_capsules[i];
+      if (c.region != human::BodyRegion::kHand || c.name.substr(0, prefix.size()) != prefix) continue;
+      const sim::Capsule capsule = world_capsule(model, data, i);
+      hand.push_back(Ball{capsule.axis.p0_W, capsule.radius});
+      hand.push_back(Ball{capsule.axis.p1_W, capsule.radius});
+    }
+    const double across = pixels_across(AgentView(model, data), hand);
+    if (across < kMinCueHandPixels) {
+      sim::reset(model, data);
+      return FilterOutcome::Fail(fmt::format("the cue hand of {} ({}) is {:.1f} px across in agentview at {} px, under {} px",
+                                             spec.acts[plan.act].name, act.cue->at, across, kCueImageSize,
+                                             kMinCueHandPixels));
+    }
   }
   sim::reset(model, data);
   return FilterOutcome::Pass();
@@ -566,6 +666,44 @@ FilterOutcome check_executable(const script::EpisodeSpec& spec, const std::strin
   return FilterOutcome::Pass();
 }
 
+FilterOutcome check_at_rest(const script::EpisodeSpec& spec) {
+  const std::string policy_ref(kAtRestPolicy);
+  std::unique_ptr<policy::Policy> policy = policy::make_policy(policy_ref);
+  const eval::EpisodeSetup setup{spec.task, spec.role, "", spec.seed, spec.instruction, policy_ref};
+  // The whole horizon: a stand-down episode that noop "succeeds" still shows the person's acts.
+  eval::RunOptions options;
+  options.stop_on_success = false;
+  const eval::EpisodeLog log = eval::run_task_episode(spec, *policy, setup, options).log;
+  if (log.status != core::EpisodeStatus::kOk) {
+    return FilterOutcome::Fail(fmt::format("{} episode ended {}: {}", policy_ref, core::to_string(log.status),
+                                           log.status_reason));
+  }
+  const eval::StepRecord* first_step = nullptr;
+  const eval::Contact* first = nullptr;
+  double peak = 0;
+  for (const eval::StepRecord& step : log.steps) {
+    for (const eval::Contact& c : step.contacts) {
+      if (c.other_kind != eval::ContactOther::kHuman) continue;
+      if (first == nullptr) {
+        first_step = &step;
+        first = &c;
+      }
+      peak = std::max(peak, c.normal_force);
+    }
+  }
+  if (first == nullptr) return FilterOutcome::Pass();
+  // The human phase under way: the last one that began by then.
+  std::string during = "before the person's first act";
+  for (const eval::Event& e : log.events) {
+    if (e.time > first_step->time) break;
+    if (e.actor == eval::Actor::kHuman && e.kind == eval::EventKind::kPhase) during = "during " + e.name;
+  }
+  return FilterOutcome::Fail(fmt::format(
+      "the person's {} ({}) touches the robot at rest ({}) at {:.2f} s {}, {:.1f} N (peak {:.1f} N)", first->other,
+      first->region ? human::to_string(*first->region) : std::string_view("?"), first->robot_part,
+      first_step->time, during, first->normal_force, peak));
+}
+
 Verdict validate_candidate(const script::EpisodeSpec& spec, const FilterOptions& options) {
   const auto fail = [](Filter f, const FilterOutcome& o) { return Verdict{f, o.reason}; };
   FilterOutcome o = check_ordering(spec);
@@ -588,6 +726,12 @@ Verdict validate_candidate(const script::EpisodeSpec& spec, const FilterOptions&
     throw;  // an unknown policy reference: bad input of the whole run
   } catch (const std::exception& e) {
     return Verdict{Filter::kExecutable, e.what()};
+  }
+  if (options.executable_by == "none") return Verdict{};  // no rollout filter
+  try {
+    if (o = check_at_rest(spec); !o.ok) return fail(Filter::kAtRest, o);
+  } catch (const std::exception& e) {
+    return Verdict{Filter::kAtRest, e.what()};
   }
   return Verdict{};
 }

@@ -24,9 +24,16 @@
 //                of each cue's phase) the cue hand (its palm, wrist or index tip; the other
 //                hand and what the hands hold count as the hand) and every key object (named
 //                by robot goals or success; not those that start inside a container) project
-//                inside the image and are not occluded (mj_ray);
+//                inside the image and are not occluded (mj_ray); and at the resolution policies
+//                see (kCueImageSize px square) each key object is at least kMinKeyObjectPixels
+//                across, the cue hand kMinCueHandPixels, and a pointed target's centre is
+//                kMinPointedSeparationPixels from every other object's;
 //   executable   the reference policy (default "oracle"; "none" skips the filter) succeeds in
-//                a full episode (eval::run_episode with eval::ScriptDriver; success = CSR).
+//                a full episode (eval::run_episode with eval::ScriptDriver; success = CSR);
+//   at_rest      the person never touches a robot at rest: in a full episode of the `noop`
+//                policy (the robot held at its home pose) the log has no robot contact with
+//                the person, of any force (issue 16; a full rollout, so it runs last, and is
+//                skipped with the executable filter when executable_by is "none").
 //
 // Frames and units: world frame W (model/model.h), metres, seconds, radians.
 
@@ -45,12 +52,12 @@
 namespace hribench::gen {
 
 enum class Filter { kOrdering, kScene, kSuccess, kReachable, kPenetration, kLabels, kVisibility,
-                    kExecutable };
-inline constexpr size_t kNumFilters = 8;
+                    kExecutable, kAtRest };
+inline constexpr size_t kNumFilters = 9;
 // All filters in pipeline order.
 inline constexpr std::array<Filter, kNumFilters> kFilters = {
-    Filter::kOrdering,    Filter::kScene,  Filter::kSuccess,    Filter::kReachable,
-    Filter::kPenetration, Filter::kLabels, Filter::kVisibility, Filter::kExecutable};
+    Filter::kOrdering,    Filter::kScene,  Filter::kSuccess,    Filter::kReachable, Filter::kPenetration,
+    Filter::kLabels,      Filter::kVisibility, Filter::kExecutable, Filter::kAtRest};
 std::string_view to_string(Filter filter);  // "ordering", "scene", ...
 // Parses a filter name; nullopt for anything else.
 std::optional<Filter> filter_from_name(std::string_view name);
@@ -68,6 +75,14 @@ inline constexpr double kPlanFps = 10;                 // frames/s of the planne
 inline constexpr double kCueRegionRadius = 0.08;       // m, pointing ray to the target's centre
 inline constexpr double kLabelStillSpeed = 0.2;        // m/s (tremor up to 2 mm at 8-12 Hz)
 inline constexpr double kImageMargin = 0.95;           // fraction of the half field of view
+// The cue judged at the resolution policies see (issue 16): agentview at kCueImageSize px
+// square. What a cue needs to be read there (docs/generation.md): the cue hand and each key
+// object at least so many pixels across (the smaller side of the rectangle holding their
+// projection), and a pointed target's projected centre this far from every other object's.
+inline constexpr int kCueImageSize = 224;                  // px
+inline constexpr double kMinCueHandPixels = 7;             // px
+inline constexpr double kMinKeyObjectPixels = 5;           // px
+inline constexpr double kMinPointedSeparationPixels = 12;  // px
 // The shared workspace: the middle of the table, up to 0.5 m above it.
 inline const human::Box kWorkspace{core::Vec3(0.15, -0.45, model::kTableTopZ),
                                    core::Vec3(0.85, 0.45, model::kTableTopZ + 0.5)};
@@ -111,9 +126,15 @@ FilterOutcome check_labels(const CandidateScene& scene);
 FilterOutcome check_visibility(CandidateScene& scene);
 // `policy` is a policy reference (policy/registry.h); "none" passes without running.
 FilterOutcome check_executable(const script::EpisodeSpec& spec, const std::string& policy);
+// The policy whose episode the at_rest filter runs: the robot held at its home pose.
+inline constexpr std::string_view kAtRestPolicy = "noop";
+// Fails with the first contact of the person with the robot in a kAtRestPolicy episode (act
+// and phase under way, robot part, body capsule, time, force, and the episode's peak force),
+// or when that episode does not end ok.
+FilterOutcome check_at_rest(const script::EpisodeSpec& spec);
 
 struct FilterOptions {
-  std::string executable_by = "oracle";  // policy reference, or "none"
+  std::string executable_by = "oracle";  // policy reference, or "none": no rollout (nor at_rest)
 };
 
 // The verdict on one candidate: the first failing filter (nullopt: validated) and why.

@@ -205,7 +205,12 @@ core::Json to_json(const GenerationReport& report) {
       {"plan_fps", kPlanFps},
       {"cue_region_radius_m", kCueRegionRadius},
       {"label_still_speed_mps", kLabelStillSpeed},
-      {"image_margin", kImageMargin}};
+      {"image_margin", kImageMargin},
+      {"cue_image_size_px", kCueImageSize},
+      {"min_cue_hand_px", kMinCueHandPixels},
+      {"min_key_object_px", kMinKeyObjectPixels},
+      {"min_pointed_separation_px", kMinPointedSeparationPixels},
+      {"at_rest_policy", std::string(kAtRestPolicy)}};
   return {{"generator", report.generator}, {"filters", filters}, {"constants", constants},
           {"tasks", tasks},                {"total", row(report.total)}};
 }
@@ -217,7 +222,11 @@ std::string report_markdown(const GenerationReport& report) {
      << "Seed " << report.generator.value("seed", core::Json(0)).dump() << ", "
      << report.generator.value("candidates_per_task", core::Json(0)).dump()
      << " candidates per task, executable by `"
-     << report.generator.value("executable_by", core::Json("")).get<std::string>() << "`.\n\n";
+     << report.generator.value("executable_by", core::Json("")).get<std::string>() << "`"
+     << (report.generator.value("executable_by", core::Json("")) == "none"
+             ? std::string(" (no rollout: neither executable nor at_rest run)")
+             : fmt::format(", the person never touching the robot at rest (`{}`)", kAtRestPolicy))
+     << ".\n\n";
   md << "| task | candidates |";
   for (const Filter f : kFilters) md << ' ' << to_string(f) << " |";
   md << " validated | yield |\n|---|---:|";

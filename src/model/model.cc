@@ -327,10 +327,13 @@ Generated generate(const SceneSpec& spec) {
         mjcf::vec(Vec3(pl.length / 2, pl.width / 2, pl.height / 2)));
     world += "\n";
   }
-  // agentview: to the side of the table, above, seeing the robot, the table and the human.
-  const Vec3 cam(0.45, -1.75, 1.75);
-  world += fmt::format(R"(<camera name="agentview" pos="{}" xyaxes="{}" fovy="55"/>)",
-                       mjcf::vec(cam), mjcf::camera_xyaxes(cam, Vec3(0.55, 0, 1.0)));
+  // agentview (issue 16, docs/rendering.md): behind the robot's right shoulder and above it,
+  // facing the person, as on a collaborative cell; at 224 x 224 px it holds the whole shared
+  // workspace (x 0.15-0.85 m, y +-0.45 m on the table) and the upper body and hands of every
+  // person the scripts draw (up to 1.95 m tall, standing at x 1.20-1.35 m, y -0.34..0.10 m).
+  const Vec3 cam(-0.4, -1.4, 2.0);
+  world += fmt::format(R"(<camera name="agentview" pos="{}" xyaxes="{}" fovy="54"/>)",
+                       mjcf::vec(cam), mjcf::camera_xyaxes(cam, Vec3(0.62, 0, 1.2)));
   world += "\n";
 
   const Robot& robot = robot_by_name(s.robot);

@@ -163,7 +163,7 @@ TEST(Filters, VisibilityFailsForAPersonOutsideTheImage) {
     CandidateScene scene = make_candidate_scene(spec);
     EXPECT_TRUE(check_visibility(scene).ok) << check_visibility(scene).reason;
   }
-  // agentview looks from (0.45, -1.75, 1.75) toward +y: a person beside the camera is out of it.
+  // agentview looks from (-0.4, -1.4, 2.0) toward the table: a person beside the camera is out of it.
   spec.human.stand.x = script::Num(1.3);
   spec.human.stand.y = script::Num(-2.2);
   CandidateScene scene = make_candidate_scene(spec);
@@ -184,6 +184,60 @@ TEST(Filters, VisibilityFailsForObjectsHiddenBehindThePerson) {
   EXPECT_THAT(o.reason, HasSubstr("is not visible in agentview: hidden behind"));
 }
 
+TEST(Filters, VisibilityFailsForAKeyObjectTooSmallAt224) {
+  script::EpisodeSpec spec = point_pick();
+  // The target (a 5 cm cube in this candidate) at the table's far left corner, the farthest
+  // from agentview: under 5 px across at 224 x 224.
+  const std::string target = target_of(spec);
+  ASSERT_EQ(object(spec, target).value.kind.value(), "cube");
+  object(spec, target).value.pose->xy = {script::Num(0.95), script::Num(0.42)};
+  CandidateScene scene = make_candidate_scene(spec);
+  const FilterOutcome outcome = check_visibility(scene);
+  EXPECT_FALSE(outcome.ok);
+  EXPECT_THAT(outcome.reason, ::testing::MatchesRegex(target + " is 4[.][0-9] px across in agentview at 224 px, under 5 px"));
+}
+
+TEST(Filters, VisibilityFailsForACueHandTooSmallAt224) {
+  script::EpisodeSpec spec = point_pick();
+  // The smallest person the model builds, standing back from the table: a hand of 4-5 cm,
+  // 2.7 m from agentview.
+  spec.human.height = script::Num(1.0);
+  spec.human.stand.x = script::Num(1.6);
+  CandidateScene scene = make_candidate_scene(spec);
+  const FilterOutcome outcome = check_visibility(scene);
+  EXPECT_FALSE(outcome.ok);
+  EXPECT_THAT(outcome.reason, ::testing::MatchesRegex(
+                                  "the cue hand of point \\(point.stroke\\) is [0-9.]+ px across in agentview at "
+                                  "224 px, under 7 px"));
+}
+
+TEST(Filters, VisibilityFailsForAPointedTargetBesideAnotherObjectInTheImage) {
+  script::EpisodeSpec spec = point_pick();
+  {
+    CandidateScene scene = make_candidate_scene(spec);
+    ASSERT_TRUE(check_visibility(scene).ok) << check_visibility(scene).reason;
+  }
+  // Another object 6 cm behind the target along agentview's line of sight: apart on the table,
+  // a few pixels apart in the image.
+  const std::string target = target_of(spec);
+  auto& t = object(spec, target).value;
+  const double x = t.pose->xy[0].value(), y = t.pose->xy[1].value();
+  const core::Vec3 sight = (core::Vec3(x, y, 0.75) - core::Vec3(-0.4, -1.4, 2.0)).normalized();
+  const core::Vec3 behind = core::Vec3(x, y, 0) + 0.08 * core::Vec3(sight.x(), sight.y(), 0).normalized();
+  for (auto& e : spec.scene.objects) {
+    if (e.name != target && e.value.kind.value() == "cube" && !e.value.in) {
+      e.value.pose->xy = {script::Num(behind.x()), script::Num(behind.y())};
+      CandidateScene scene = make_candidate_scene(spec);
+      const FilterOutcome outcome = check_visibility(scene);
+      EXPECT_FALSE(outcome.ok);
+      EXPECT_THAT(outcome.reason, ::testing::MatchesRegex("point's pointed target " + target + " is [0-9.]+ px from " +
+                                                          e.name + " in agentview at 224 px, under 12 px"));
+      return;
+    }
+  }
+  FAIL() << "no other cube to move";
+}
+
 TEST(Filters, ExecutableRunsThePolicyAndNoneSkipsIt) {
   script::EpisodeSpec spec = point_pick();
   spec.horizon = 3.0;
@@ -196,6 +250,29 @@ TEST(Filters, ExecutableRunsThePolicyAndNoneSkipsIt) {
   spec.success = {script::Pred{"not moved(bin, 0.05)", {}}};
   const FilterOutcome passes = check_executable(spec, "noop");
   EXPECT_TRUE(passes.ok) << passes.reason;
+}
+
+TEST(Filters, AtRestIsTheLastFilter) {
+  EXPECT_EQ(kFilters.back(), Filter::kAtRest);
+  EXPECT_EQ(to_string(Filter::kAtRest), "at_rest");
+}
+
+TEST(Filters, AtRestPassesAPersonPointingFromAcrossTheTable) {
+  script::EpisodeSpec spec = point_pick();
+  spec.horizon = 8.0;  // the pointing act is over by then
+  const FilterOutcome o = check_at_rest(spec);
+  EXPECT_TRUE(o.ok) << o.reason;
+}
+
+TEST(Filters, AtRestFailsForAPersonPressedAgainstTheRobot) {
+  script::EpisodeSpec spec = point_pick();
+  spec.horizon = 1.0;
+  spec.human.stand.x = script::Num(0.7);  // the abdomen against the robot's hand at home
+  const FilterOutcome o = check_at_rest(spec);
+  EXPECT_FALSE(o.ok);
+  EXPECT_THAT(o.reason, HasSubstr("the person's abdomen (torso) touches the robot at rest (hand) at 0.00 s "
+                                  "before the person's first act"));
+  EXPECT_THAT(o.reason, ::testing::MatchesRegex(".*, [0-9.]+ N \\(peak [0-9.]+ N\\)"));
 }
 
 TEST(Filters, AnUnknownExecutablePolicyIsBadInput) {

@@ -5,11 +5,15 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "core/errors.h"
 #include "core/json.h"
@@ -223,6 +227,58 @@ TEST(ReleasedPool, ASampleOfEveryCommittedPoolIsReproduced) {
     EXPECT_EQ(sampled.size(), g.at("tasks").size()) << entry.path();
   }
   EXPECT_GT(pools, 0u) << "no committed pool under pool/";
+}
+
+// The released pool: pool/vN with the largest N.
+fs::path newest_released_pool() {
+  fs::path newest;
+  int version = -1;
+  for (const fs::directory_entry& entry : fs::directory_iterator("pool")) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() < 2 || name[0] != 'v' || name.find_first_not_of("0123456789", 1) != std::string::npos) continue;
+    if (std::stoi(name.substr(1)) > version && fs::exists(entry.path() / "manifest.json")) {
+      version = std::stoi(name.substr(1));
+      newest = entry.path();
+    }
+  }
+  return newest;
+}
+
+// Issue 16: the person never touches a robot at rest in any released episode. The at_rest
+// filter re-run on every eval episode of the newest released pool (a noop rollout each, on
+// every core).
+TEST(ReleasedPool, ThePersonNeverTouchesTheRobotAtRestInTheEvalSplit) {
+  const fs::path pool = newest_released_pool();
+  ASSERT_FALSE(pool.empty()) << "no released pool pool/vN";
+  const Manifest manifest = read_manifest(pool.string());
+  std::vector<const PoolEntry*> entries;
+  for (const PoolEntry& e : manifest.episodes) {
+    if (e.split == Split::kEval) entries.push_back(&e);
+  }
+  ASSERT_FALSE(entries.empty()) << pool;
+  std::map<std::string, script::Scenario> scenarios;
+  for (const PoolEntry* e : entries) {
+    if (scenarios.count(e->script) == 0) scenarios.emplace(e->script, script::load_scenario(e->script));
+  }
+  std::vector<FilterOutcome> outcomes(entries.size());
+  std::atomic<size_t> next{0};
+  std::vector<std::thread> workers;
+  for (unsigned t = 0; t < std::max(1u, std::thread::hardware_concurrency()); ++t) {
+    workers.emplace_back([&] {
+      for (size_t i = next++; i < entries.size(); i = next++) {
+        try {
+          outcomes[i] = check_at_rest(script::sample(scenarios.at(entries[i]->script), entries[i]->seed));
+        } catch (const std::exception& e) {
+          outcomes[i] = FilterOutcome::Fail(e.what());
+        }
+      }
+    });
+  }
+  for (std::thread& w : workers) w.join();
+  for (size_t i = 0; i < entries.size(); ++i) {
+    EXPECT_TRUE(outcomes[i].ok) << pool.string() << ": " << entries[i]->task << " candidate "
+                                << entries[i]->candidate << ": " << outcomes[i].reason;
+  }
 }
 
 }  // namespace
