@@ -44,6 +44,41 @@ Quat clamp_swing_twist(const Quat& q, const Vec3& axis, double max_twist, double
 
 constexpr double kDeg = core::kPi / 180.0;
 
+// Leaning (docs/motion.md, "Leaning"): the share of a forward lean at the hips, the knee
+// flexion per radian of forward lean (at crouch 1) and its maximum (more let a short person's
+// upper arm sink into the chest on a far, low reach).
+constexpr double kHipShare = 0.4;
+constexpr double kKneePerLean = 0.7;
+constexpr double kMaxKneeBend = 26 * kDeg;
+
+// Knee flexion of a forward lean as the forward tilts (rad) of the thighs and the shins; their
+// sum is the knee flexion. The thigh's share is the one that keeps the hips straight above where
+// they were (the hips only drop), with the skeleton's own bone directions.
+struct KneeBend {
+  double thigh = 0;
+  double shin = 0;
+};
+KneeBend knee_bend(const Skeleton& k, double forward, double crouch) {
+  if (forward <= 0 || crouch <= 0) return {};
+  const double flex = std::min(crouch * kKneePerLean * forward, kMaxKneeBend);
+  const Vec3& thigh = k.offset[static_cast<size_t>(index(Joint::kLeftKnee))];
+  const Vec3& shin = k.offset[static_cast<size_t>(index(Joint::kLeftAnkle))];
+  // Forward distance of the ankle from the hip with the thigh tilted forward by b (increasing
+  // in b), and at rest.
+  const auto ahead = [&](double b) {
+    return Vec3(core::axis_angle(Vec3::UnitY(), -b) * thigh).x() +
+           Vec3(core::axis_angle(Vec3::UnitY(), flex - b) * shin).x();
+  };
+  const double rest = thigh.x() + shin.x();
+  double lo = 0;
+  double hi = flex;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (ahead(mid) > rest ? hi : lo) = mid;
+  }
+  return {lo, flex - lo};
+}
+
 }  // namespace
 
 Vec3 palm_centre(const Skeleton& skeleton, const core::Pose& X_W_wrist) {
@@ -146,40 +181,55 @@ ArmSolution solve_arm(const Skeleton& skeleton, SkeletonPose& pose, Side side,
 }
 
 void lean_spine(const Skeleton& skeleton, SkeletonPose& pose, const Vec3& direction,
-                double angle) {
+                double angle, double crouch) {
   const Vec3 h(direction.x(), direction.y(), 0);
   if (h.norm() < 1e-9 || angle == 0) return;
   const Vec3 axis = Vec3::UnitZ().cross(h.normalized());
-  // 40 % of the forward/backward part at the hips: the pelvis pitches about the midpoint of the
-  // hip joints (which stays in place) and the thighs are counter-rotated, so the legs stay put.
-  const Quat pelvis_q = core::axis_angle(Vec3::UnitY(), 0.4 * angle * h.normalized().x());
-  const Vec3 hip_mid = 0.5 * (skeleton.offset[static_cast<size_t>(index(Joint::kLeftHip))] +
-                              skeleton.offset[static_cast<size_t>(index(Joint::kRightHip))]);
-  pose.X_WP.translation += pose.X_WP.rotation * (hip_mid - pelvis_q * hip_mid);
+  const double forward = angle * h.normalized().x();  // the sagittal part, rad
+  const auto joint = [&](Joint j) -> Quat& { return pose.local[static_cast<size_t>(index(j))]; };
+  const auto ankle_mid = [&] {
+    const auto X = forward_kinematics(skeleton, pose);
+    return Vec3(0.5 * (X[static_cast<size_t>(index(Joint::kLeftAnkle))].translation +
+                       X[static_cast<size_t>(index(Joint::kRightAnkle))].translation));
+  };
+  const Vec3 feet = ankle_mid();
+  // 40 % of the forward/backward part at the hips: the pelvis pitches and the thighs are
+  // counter-rotated.
+  const Quat pelvis_q = core::axis_angle(Vec3::UnitY(), kHipShare * forward);
   pose.X_WP.rotation = (pose.X_WP.rotation * pelvis_q).normalized();
-  for (Joint j : {Joint::kLeftHip, Joint::kRightHip}) {
-    Quat& q = pose.local[static_cast<size_t>(index(j))];
-    q = (pelvis_q.conjugate() * q).normalized();
+  // A forward lean bends the knees (docs/motion.md, "Leaning"): the hips drop straight down,
+  // the feet stay flat.
+  const KneeBend bend = knee_bend(skeleton, forward, std::clamp(crouch, 0.0, 1.0));
+  for (const Side side : {Side::kLeft, Side::kRight}) {
+    const bool left = side == Side::kLeft;
+    Quat& hip = joint(left ? Joint::kLeftHip : Joint::kRightHip);
+    hip = (pelvis_q.conjugate() * core::axis_angle(Vec3::UnitY(), -bend.thigh) * hip).normalized();
+    Quat& knee = joint(left ? Joint::kLeftKnee : Joint::kRightKnee);
+    knee = (core::axis_angle(Vec3::UnitY(), bend.thigh + bend.shin) * knee).normalized();
+    Quat& ankle = joint(left ? Joint::kLeftAnkle : Joint::kRightAnkle);
+    ankle = (core::axis_angle(Vec3::UnitY(), -bend.shin) * ankle).normalized();
   }
   // The rest of the lean, in equal shares at the spine joints.
   const Quat spine_q =
       (core::axis_angle(axis, angle / 3) *
-       core::axis_angle(Vec3::UnitY(), -0.4 * angle * h.normalized().x() / 3)).normalized();
+       core::axis_angle(Vec3::UnitY(), -kHipShare * forward / 3)).normalized();
   for (Joint j : {Joint::kSpine1, Joint::kSpine2, Joint::kSpine3}) {
-    Quat& q = pose.local[static_cast<size_t>(index(j))];
+    Quat& q = joint(j);
     q = (spine_q * q).normalized();
   }
+  // The feet stay where they were.
+  pose.X_WP.translation += feet - ankle_mid();
 }
 
 double lean_for_reach(const Skeleton& skeleton, const SkeletonPose& pose, Side side,
                       const Vec3& wrist, double reach_fraction, double max_lean,
-                      std::optional<Vec3> direction) {
+                      std::optional<Vec3> direction, double crouch) {
   const double reach = reach_fraction * arm_length(skeleton, side);
   const Vec3 dir = direction ? *direction
                              : Vec3(pose.X_WP.rotation.conjugate() * (wrist - pose.X_WP.translation));
   const auto excess = [&](double angle) {
     SkeletonPose p = pose;
-    lean_spine(skeleton, p, dir, angle);
+    lean_spine(skeleton, p, dir, angle, crouch);
     const auto X = forward_kinematics(skeleton, p);
     return (wrist - X[static_cast<size_t>(index(shoulder(side)))].translation).norm() - reach;
   };

@@ -55,19 +55,22 @@ ArmSolution solve_arm(const Skeleton& skeleton, SkeletonPose& pose, Side side,
                       const ArmTarget& target);
 
 // A lean of `angle` rad toward `direction` (pelvis frame, only its xy part is used) about the
-// horizontal axis perpendicular to it: 40 % of its forward part at the hips (the pelvis pitches
-// about the midpoint of the hip joints, the thighs are counter-rotated so the legs stay put),
-// the rest in equal shares at spine1..spine3. Composes with what the pose already has; call it
-// once per pose.
+// horizontal axis perpendicular to it: 40 % of its forward part at the hips (the pelvis pitches,
+// the thighs are counter-rotated), the rest in equal shares at spine1..spine3. A forward lean
+// also bends the knees by `crouch` (in [0, 1]) times 0.7 times the lean (at most 26 degrees): the hips
+// drop straight down (they stay above where they were, so the stand frame does not move), the
+// thighs and shins tilt forward, the feet stay flat (docs/motion.md, "Leaning"). The ankles do
+// not move. Composes with what the pose already has; call it once per pose.
 void lean_spine(const Skeleton& skeleton, SkeletonPose& pose, const core::Vec3& direction,
-                double angle);
+                double angle, double crouch = 1);
 
 // Smallest lean (rad, at most max_lean) toward `direction` (pelvis frame; default: toward the
-// wrist target) that brings the shoulder of `side` within reach_fraction * arm_length of `wrist`
-// (world); 0 when already within reach. `pose` is not leaned yet.
+// wrist target) with that crouch (lean_spine) that brings the shoulder of `side` within
+// reach_fraction * arm_length of `wrist` (world); 0 when already within reach. `pose` is not
+// leaned yet.
 double lean_for_reach(const Skeleton& skeleton, const SkeletonPose& pose, Side side,
                       const core::Vec3& wrist, double reach_fraction, double max_lean,
-                      std::optional<core::Vec3> direction = std::nullopt);
+                      std::optional<core::Vec3> direction = std::nullopt, double crouch = 1);
 
 // Human joint-angle limits (degrees), generous ranges from clinical norms: elbow flexion
 // 0-150 (hyperextension <= 10), wrist swing <= 80 and pro/supination <= 90, shoulder humeral

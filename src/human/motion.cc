@@ -21,6 +21,14 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kDeg = core::kPi / 180.0;
 constexpr double kLeanReach = 0.93;      // lean once a wrist target is beyond this much reach
 constexpr double kMaxLean = 70 * kDeg;
+// The head (docs/motion.md, "Leaning"): the neck extends by this share of a forward lean (at
+// most kMaxHeadExtension) so the face stays up, and a lean stops where the head's centre would
+// come further in front of the ankles than kHeadReach or, for a hand reaching further out,
+// than kHeadBehindHand behind that hand's wrist target (the hand then falls short).
+constexpr double kHeadExtension = 0.5;
+constexpr double kMaxHeadExtension = 30 * kDeg;
+constexpr double kHeadReach = 0.45;       // m
+constexpr double kHeadBehindHand = 0.15;  // m
 
 size_t slot(Side side) { return side == Side::kLeft ? 0 : 1; }
 Side side_of(size_t slot_index) { return slot_index == 0 ? Side::kLeft : Side::kRight; }
@@ -210,23 +218,80 @@ MotionPlan::MotionPlan(Skeleton skeleton, BodyKey start, std::vector<Segment> se
 
 namespace {
 
-// The lean (rad) a wrist target (world) asks for and its direction (pelvis frame, horizontal):
-// mostly forward, a sideways lean would swing the other arm across the hips.
-double lean_need(const Skeleton& k, const SkeletonPose& pose, Side side, const Vec3& wrist, Vec3& dir) {
+// Neck extension (rad, >= 0) that keeps the face up in a lean of `angle` toward `dir` (pelvis
+// frame, horizontal unit).
+double head_extension(double angle, const Vec3& dir) {
+  return std::min(kHeadExtension * std::max(0.0, angle * dir.x()), kMaxHeadExtension);
+}
+
+// Sets the neck: yaw (rad) toward a gaze, then extension (rad, the face up).
+void set_neck(SkeletonPose& pose, double yaw, double extension) {
+  pose.local[static_cast<size_t>(index(Joint::kNeck))] =
+      (core::axis_angle(Vec3::UnitZ(), yaw) * core::axis_angle(Vec3::UnitY(), -extension)).normalized();
+}
+
+// Centre of the head capsule (human/skeleton.cc) in world.
+Vec3 head_centre(const Skeleton& k, const SkeletonPose& pose) {
+  const auto X = forward_kinematics(k, pose);
+  return X[static_cast<size_t>(index(Joint::kNeck))] * Vec3(0.01 * k.scale, 0, 0.10 * k.scale);
+}
+
+// The largest lean (rad, <= kMaxLean) toward `dir` (pelvis frame, horizontal unit) with that
+// crouch that keeps the head's centre within the bound in front of the ankles (forward of the
+// stand frame) for a hand reaching to `wrist` (world).
+double head_limited_lean(const Skeleton& k, const SkeletonPose& pose, const Vec3& dir, double crouch,
+                         const Vec3& wrist) {
+  const auto X = forward_kinematics(k, pose);
+  const Vec3 feet = 0.5 * (X[static_cast<size_t>(index(Joint::kLeftAnkle))].translation +
+                           X[static_cast<size_t>(index(Joint::kRightAnkle))].translation);
+  const Vec3 fwd = stand_frame(k, pose).rotation * Vec3::UnitX();
+  const double bound = std::max(kHeadReach, (wrist - feet).dot(fwd) - kHeadBehindHand);
+  const auto over = [&](double angle) {
+    SkeletonPose p = pose;
+    lean_spine(k, p, dir, angle, crouch);
+    set_neck(p, 0, head_extension(angle, dir));
+    return (head_centre(k, p) - feet).dot(fwd) - bound;
+  };
+  if (over(kMaxLean) <= 0) return kMaxLean;
+  if (over(0) > 0) return 0;
+  double lo = 0;
+  double hi = kMaxLean;
+  for (int i = 0; i < 30; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (over(mid) > 0 ? hi : lo) = mid;
+  }
+  return lo;
+}
+
+// How much a lean toward a wrist target (world) bends the knees (lean_spine's crouch): 0 for a
+// target less than a third of an arm's length below the shoulder (a reach at chest height is a
+// lean), 1 an arm's length below it or lower (a reach down to the table).
+double crouch_for(const Skeleton& k, const SkeletonPose& pose, Side side, const Vec3& wrist) {
+  const auto X = forward_kinematics(k, pose);
+  const double below = X[static_cast<size_t>(index(shoulder(side)))].translation.z() - wrist.z();
+  return std::clamp(2 * below / arm_length(k, side) - 1, 0.0, 1.0);
+}
+
+// The lean (rad) a wrist target (world) asks for with that crouch, and its direction (pelvis
+// frame, horizontal): mostly forward, a sideways lean would swing the other arm across the hips.
+double lean_need(const Skeleton& k, const SkeletonPose& pose, Side side, const Vec3& wrist, Vec3& dir,
+                 double crouch) {
   dir = pose.X_WP.rotation.conjugate() * (wrist - pose.X_WP.translation);
   dir.y() *= 0.3;
-  const double l = lean_for_reach(k, pose, side, wrist, kLeanReach, kMaxLean, dir);
-  dir.z() = 0;
-  dir = dir.norm() > 1e-9 ? Vec3(dir.normalized()) : Vec3::UnitX();
+  Vec3 flat(dir.x(), dir.y(), 0);
+  flat = flat.norm() > 1e-9 ? Vec3(flat.normalized()) : Vec3::UnitX();
+  const double l = lean_for_reach(k, pose, side, wrist, kLeanReach,
+                                  head_limited_lean(k, pose, flat, crouch, wrist), dir, crouch);
+  dir = flat;
   return l;
 }
 
 // The shift of each hanging hand (reaching < 1) with its shoulder by a lean (world, never down).
 std::array<Vec3, 2> hanging_shift(const Skeleton& k, SkeletonPose& pose, const Vec3& dir, double lean,
-                                  const std::array<double, 2>& reaching) {
+                                  double crouch, const std::array<double, 2>& reaching) {
   std::array<Vec3, 2> out{Vec3::Zero(), Vec3::Zero()};
   const auto before = forward_kinematics(k, pose);
-  lean_spine(k, pose, dir, lean);
+  lean_spine(k, pose, dir, lean, crouch);
   const auto after = forward_kinematics(k, pose);
   for (size_t h = 0; h < 2; ++h) {
     if (reaching[h] == 1) continue;
@@ -262,14 +327,16 @@ MotionPlan::Lean MotionPlan::lean_of(const Skeleton& k, const BodyKey& key) {
     if (std::hypot(off.x(), off.y()) < 0.3 * arm_length(k, side_of(h))) continue;
     out.reaching[h] = 1;
     Vec3 dir;
-    const double l = lean_need(k, pose, side_of(h), key.X_WF * wrist_F, dir);
+    const double crouch = crouch_for(k, pose, side_of(h), key.X_WF * wrist_F);
+    const double l = lean_need(k, pose, side_of(h), key.X_WF * wrist_F, dir, crouch);
     if (l > out.angle) {
       out.angle = l;
       out.dir = dir;
+      out.crouch = crouch;
     }
   }
   if (out.angle > 0) {
-    const auto shift = hanging_shift(k, pose, out.dir, out.angle, out.reaching);
+    const auto shift = hanging_shift(k, pose, out.dir, out.angle, out.crouch, out.reaching);
     for (size_t h = 0; h < 2; ++h) out.shift[h] = key.X_WF.rotation.conjugate() * shift[h];
   }
   return out;
@@ -438,13 +505,17 @@ SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t) const 
   const double w0 = first_key_weight(l0, l1, s);
   double lean = w0 * l0.angle + s * l1.angle;
   Vec3 lean_dir = w0 * l0.angle * l0.dir + s * l1.angle * l1.dir;
+  // The knees bend as at the keys (a crouch decided now came in at once).
+  const double crouch = lean > 0 ? (w0 * l0.angle * l0.crouch + s * l1.angle * l1.crouch) / lean
+                                 : (1 - s) * l0.crouch + s * l1.crouch;
   for (size_t h = 0; h < 2; ++h) {
     if (l0.reaching[h] == 0 || l1.reaching[h] == 0) continue;
     Vec3 dir;
-    const double l = lean_need(k, pose, side_of(h), targets[h].wrist, dir);
+    const double l = lean_need(k, pose, side_of(h), targets[h].wrist, dir, crouch);
     if (l > lean) {
+      // Only the extra lean goes the hand's way (turning the whole lean at once swung the trunk).
+      lean_dir += (l - lean) * dir;
       lean = l;
-      lean_dir = dir;
     }
   }
   // A hand held where it hangs follows its shoulder forward and sideways but never down: carried
@@ -468,22 +539,26 @@ SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t) const 
     }
   }
   if (lean > 0) {
-    const auto shift = hanging_shift(k, pose, lean_dir, lean, reaching);
+    const auto shift = hanging_shift(k, pose, lean_dir, lean, crouch, reaching);
     for (size_t h = 0; h < 2; ++h) targets[h].wrist += shift[h];
   }
   for (size_t h = 0; h < 2; ++h) solve_arm(k, pose, side_of(h), targets[h]);
-  // Head: toward the gaze point, yaw at the neck (<= 60 deg), pitch at the head (-30..45 deg).
+  // Head: toward the gaze point, yaw at the neck (<= 50 deg), pitch at the head (-30..45 deg);
+  // the neck extends with a forward lean so the face stays up.
+  const double extension =
+      lean > 0 && lean_dir.norm() > 1e-9 ? head_extension(lean, lean_dir.normalized()) : 0.0;
+  set_neck(pose, 0, extension);
   if (key.gaze_weight > 0) {
     const auto X = forward_kinematics(k, pose);
     const core::Pose& X_Ws3 = X[static_cast<size_t>(index(Joint::kSpine3))];
     const Vec3 from = X[static_cast<size_t>(index(Joint::kNeck))].translation;
     const Vec3 d = X_Ws3.rotation.conjugate() * (key.X_WF * key.gaze - from);
-    const double yaw = std::clamp(std::atan2(d.y(), d.x()), -60 * kDeg, 60 * kDeg);
+    const double yaw = std::clamp(std::atan2(d.y(), d.x()), -50 * kDeg, 50 * kDeg);
     const double pitch = std::clamp(std::atan2(-d.z(), std::hypot(d.x(), d.y())), -30 * kDeg, 45 * kDeg);
-    pose.local[static_cast<size_t>(index(Joint::kNeck))] =
-        core::axis_angle(Vec3::UnitZ(), key.gaze_weight * yaw);
-    pose.local[static_cast<size_t>(index(Joint::kHead))] =
-        core::axis_angle(Vec3::UnitY(), key.gaze_weight * pitch);
+    set_neck(pose, key.gaze_weight * yaw, extension);
+    // The head pitches back from the neck's extension toward the gaze.
+    pose.local[static_cast<size_t>(index(Joint::kHead))] = core::axis_angle(
+        Vec3::UnitY(), std::clamp(key.gaze_weight * (pitch + extension), -55 * kDeg, 55 * kDeg));
   }
   return pose;
 }
@@ -591,6 +666,7 @@ MotionPlan MotionPlan::retarget(double t, const Signals& signals, Side side, con
   start.angle = w0 * l0.angle + s * l1.angle;
   const Vec3 dir = w0 * l0.angle * l0.dir + s * l1.angle * l1.dir;
   start.dir = dir.norm() > 1e-9 ? Vec3(dir.normalized()) : Vec3::UnitX();
+  start.crouch = start.angle > 0 ? (w0 * l0.angle * l0.crouch + s * l1.angle * l1.crouch) / start.angle : 0;
   for (size_t hand = 0; hand < 2; ++hand) start.shift[hand] = (1 - s) * l0.shift[hand] + s * l1.shift[hand];
   return out;
 }

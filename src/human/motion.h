@@ -7,8 +7,9 @@
 // How it moves: the palm centre of each hand follows a minimum-jerk profile (asymmetric for
 // precision phases) along a smooth path through optional via-points; the hand rotation is
 // slerped with the same profile; the arms come from analytic two-link IK with a swivel angle;
-// the torso leans when a hand target is beyond 93 % of the arm's reach; the pelvis follows
-// min-jerk root moves with a procedural gait when walking. Gestures add wrist-pivoted
+// the torso leans when a hand target is beyond 93 % of the arm's reach (bending the knees for a
+// low target, the neck extending, the head kept near the feet: docs/motion.md, "Leaning"); the
+// pelvis follows min-jerk root moves with a procedural gait when walking. Gestures add wrist-pivoted
 // oscillations; tremor adds a small 8-12 Hz palm oscillation. Every number comes from the
 // parameters, so a script can draw them from distributions.
 //
@@ -181,6 +182,7 @@ class MotionPlan {
   struct Lean {
     double angle = 0;
     core::Vec3 dir = core::Vec3::UnitX();
+    double crouch = 0;  // lean_spine's crouch: how much the knees bend with the lean
     std::array<double, 2> reaching{};
     std::array<core::Vec3, 2> shift{core::Vec3::Zero(), core::Vec3::Zero()};
   };

@@ -157,5 +157,43 @@ TEST(ArmIkTest, SwingTwistDecomposition) {
   EXPECT_NEAR(twist_angle(both, Vec3::UnitZ()), -0.7, 1e-12);
 }
 
+
+TEST(ArmIkTest, ALeanBendsTheKneesWithTheFeetFlatAndTheHipsAboveThem) {
+  const Skeleton k = Skeleton::FromHeight(1.80);
+  const SkeletonPose pose = SkeletonPose::Standing(k, 0.3, -0.2, 0.5);
+  const Vec3 forward = Vec3::UnitX();  // pelvis frame
+  SkeletonPose straight = pose;
+  SkeletonPose crouched = pose;
+  lean_spine(k, straight, forward, 0.6, 0);
+  lean_spine(k, crouched, forward, 0.6, 1);
+  const auto X0 = forward_kinematics(k, pose);
+  const auto Xs = forward_kinematics(k, straight);
+  const auto Xc = forward_kinematics(k, crouched);
+  const auto at = [](const std::array<core::Pose, kNumJoints>& X, Joint j) {
+    return X[static_cast<size_t>(index(j))];
+  };
+  const auto angle = [](const Quat& q) { return 2 * std::acos(std::min(1.0, std::abs(q.w()))); };
+  // Knee flexion: 0.7 x the lean with crouch 1, none with crouch 0.
+  EXPECT_NEAR(angle(crouched.local[static_cast<size_t>(index(Joint::kLeftKnee))]), 0.7 * 0.6, 1e-9);
+  EXPECT_NEAR(angle(straight.local[static_cast<size_t>(index(Joint::kRightKnee))]), 0, 1e-9);
+  for (const Joint ankle : {Joint::kLeftAnkle, Joint::kRightAnkle}) {
+    // The feet stay in place and flat.
+    EXPECT_LT((at(Xc, ankle).translation - at(X0, ankle).translation).norm(), 1e-9);
+    EXPECT_LT(angle(at(Xc, ankle).rotation.conjugate() * at(X0, ankle).rotation), 1e-9);
+  }
+  // The hips drop straight down (the stand frame stays), and the shoulders come lower than with
+  // straight legs.
+  const Vec3 hip_c = 0.5 * (at(Xc, Joint::kLeftHip).translation + at(Xc, Joint::kRightHip).translation);
+  const Vec3 hip_0 = 0.5 * (at(X0, Joint::kLeftHip).translation + at(X0, Joint::kRightHip).translation);
+  EXPECT_LT(std::hypot(hip_c.x() - hip_0.x(), hip_c.y() - hip_0.y()), 1e-9);
+  EXPECT_LT(hip_c.z(), hip_0.z() - 0.015);
+  EXPECT_LT(at(Xc, Joint::kRightShoulder).translation.z(), at(Xs, Joint::kRightShoulder).translation.z() - 0.015);
+  EXPECT_TRUE(check_joint_limits(crouched).empty());
+  // The knee flexion is capped at 26 degrees.
+  SkeletonPose deep = pose;
+  lean_spine(k, deep, forward, 1.2, 1);
+  EXPECT_NEAR(angle(deep.local[static_cast<size_t>(index(Joint::kLeftKnee))]), 26 * core::kPi / 180, 1e-9);
+}
+
 }  // namespace
 }  // namespace hribench::human

@@ -698,5 +698,45 @@ TEST(MotionTest, RetargetingInTheMiddleOfALeaningReachKeepsThePose) {
   }
 }
 
+
+TEST(MotionTest, ALowReachBendsTheKneesAndKeepsTheHeadNearTheFeet) {
+  // C4 co_lift's grip (0.35-0.40 m in front of the pelvis at 0.85 m) once drove a tall person's
+  // head, hinged straight-legged at the hips, into the robot's hand at home (docs/motion.md,
+  // "Leaning"). Here: a low reach and a far one at chest height, for every body height.
+  for (const double height : {1.55, 1.75, 1.95}) {
+    const Skeleton k = Skeleton::FromHeight(height);
+    const SkeletonPose start = standing(k);
+    for (const Vec3& target : {Vec3(kStandX - 0.38, 0, 0.85), Vec3(kStandX - 0.72, 0.05, 1.0)}) {
+      SCOPED_TRACE(fmt::format("height {} target x {}", height, target.x()));
+      PrimitiveParams p = example("reach");
+      p.points["target"] = target;
+      const LabelledClip lc = generate_clip(k, start, p, 30);
+      double knee = 0;
+      double head_ahead = 0;
+      for (const SkeletonPose& pose : lc.clip.frames) {
+        const auto X = forward_kinematics(k, pose);
+        const Vec3 feet = 0.5 * (X[index(Joint::kLeftAnkle)].translation + X[index(Joint::kRightAnkle)].translation);
+        const Vec3 head = X[index(Joint::kNeck)] * Vec3(0.01 * k.scale, 0, 0.10 * k.scale);
+        // The person faces -x.
+        head_ahead = std::max(head_ahead, feet.x() - head.x());
+        const core::Quat q = pose.local[static_cast<size_t>(index(Joint::kLeftKnee))];
+        knee = std::max(knee, 2 * std::acos(std::min(1.0, std::abs(q.w()))));
+      }
+      // The palm gets there (within tasks_test's 5 cm), the knees bend for the low target, the head
+      // stays within 0.45 m of the ankles or 0.15 m behind the wrist (0.06 m behind the palm
+      // target), whichever is further.
+      double closest = 1;
+      for (size_t f = 0; f < lc.clip.frames.size(); ++f) {
+        closest = std::min(closest, (palm_of(lc.clip, f, Side::kRight) - target).norm());
+      }
+      EXPECT_LT(closest, 0.05);
+      if (target.z() < 0.9) {
+        EXPECT_GT(knee, 10 * core::kPi / 180);
+      }
+      EXPECT_LT(head_ahead, std::max(0.45, kStandX - target.x() - 0.06) + 1e-3);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hribench::human
