@@ -250,24 +250,17 @@ fs::path newest_released_pool() {
 TEST(ReleasedPool, ThePersonNeverTouchesTheRobotAtRestInTheEvalSplit) {
   const fs::path pool = newest_released_pool();
   ASSERT_FALSE(pool.empty()) << "no released pool pool/vN";
-  const Manifest manifest = read_manifest(pool.string());
-  std::vector<const PoolEntry*> entries;
-  for (const PoolEntry& e : manifest.episodes) {
-    if (e.split == Split::kEval) entries.push_back(&e);
-  }
-  ASSERT_FALSE(entries.empty()) << pool;
-  std::map<std::string, script::Scenario> scenarios;
-  for (const PoolEntry* e : entries) {
-    if (scenarios.count(e->script) == 0) scenarios.emplace(e->script, script::load_scenario(e->script));
-  }
-  std::vector<FilterOutcome> outcomes(entries.size());
+  // pool_episodes re-samples each for the pool's robot and checks it against the manifest hash.
+  const std::vector<script::EpisodeSpec> specs = pool_episodes(read_manifest(pool.string()), Split::kEval);
+  ASSERT_FALSE(specs.empty()) << pool;
+  std::vector<FilterOutcome> outcomes(specs.size());
   std::atomic<size_t> next{0};
   std::vector<std::thread> workers;
   for (unsigned t = 0; t < std::max(1u, std::thread::hardware_concurrency()); ++t) {
     workers.emplace_back([&] {
-      for (size_t i = next++; i < entries.size(); i = next++) {
+      for (size_t i = next++; i < specs.size(); i = next++) {
         try {
-          outcomes[i] = check_at_rest(script::sample(scenarios.at(entries[i]->script), entries[i]->seed));
+          outcomes[i] = check_at_rest(specs[i]);
         } catch (const std::exception& e) {
           outcomes[i] = FilterOutcome::Fail(e.what());
         }
@@ -275,9 +268,9 @@ TEST(ReleasedPool, ThePersonNeverTouchesTheRobotAtRestInTheEvalSplit) {
     });
   }
   for (std::thread& w : workers) w.join();
-  for (size_t i = 0; i < entries.size(); ++i) {
-    EXPECT_TRUE(outcomes[i].ok) << pool.string() << ": " << entries[i]->task << " candidate "
-                                << entries[i]->candidate << ": " << outcomes[i].reason;
+  for (size_t i = 0; i < specs.size(); ++i) {
+    EXPECT_TRUE(outcomes[i].ok) << pool.string() << ": " << specs[i].task << " seed " << specs[i].seed << ": "
+                                << outcomes[i].reason;
   }
 }
 
