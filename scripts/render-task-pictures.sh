@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Renders the 13 task pictures of docs/tasks.md into docs/images/tasks/<ID>.png: one key moment
-# of one sampled episode per task (`hribench render --task`, docs/rendering.md "Task pictures").
-# Deterministic: the same build renders the same pictures.
+# of one sampled episode per task (`hribench render --task`, docs/rendering.md "Task pictures"),
+# and the same moment as a policy sees it, the 224x224 agentview frame, into
+# docs/images/tasks/agentview-224/<ID>.png. Deterministic: the same build renders the same
+# pictures.
 #
 # Usage: scripts/render-task-pictures.sh [OUT_DIR]   (default docs/images/tasks)
 # HRIBENCH names the binary (default ${HRIBENCH_BUILD_DIR:-build}/hribench).
@@ -10,7 +12,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 hribench="${HRIBENCH:-${HRIBENCH_BUILD_DIR:-build}/hribench}"
 out="${1:-docs/images/tasks}"
-mkdir -p "$out"
+mkdir -p "$out/agentview-224"
 
 # picture ID TASK_FILE SEED POLICY MOMENT [extra render options]
 picture() {
@@ -18,6 +20,8 @@ picture() {
   shift 5
   "$hribench" render --task "tasks/$task.yaml" --seed "$seed" --policy "$policy" --at "$at" \
     --camera free --pretty --width 480 --height 360 --out "$out/$id.png" "$@"
+  "$hribench" render --task "tasks/$task.yaml" --seed "$seed" --policy "$policy" --at "$at" \
+    --camera agentview --width 224 --height 224 --out "$out/agentview-224/$id.png"
 }
 
 picture I1 I1_point_pick           1 noop   point.hold+0.3
