@@ -2,7 +2,7 @@
 # The README's main command: install, build, then run the main job and write its outputs
 # under ${HRIBENCH_OUT:-out/}: validate the 13 task scripts, evaluate the built-in reference
 # policies (the oracle expert, the reactive and blind baselines, noop) on the held-out eval split
-# of the released episode pool (pool/v3, benchmark version 3; see docs/generation.md),
+# of the released episode pool (pool/v4, benchmark version 4; see docs/generation.md),
 # render the scene and run the speed benchmark.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -13,7 +13,7 @@ mkdir -p "$out"
 cd "$root"
 "$build/hribench" version
 "$build/hribench" check tasks/*.yaml
-"$build/hribench" eval --pool "${HRIBENCH_POOL:-pool/v3}" --split eval \
+"$build/hribench" eval --pool "${HRIBENCH_POOL:-pool/v4}" --split eval \
   --policy oracle,reactive,blind,noop --threads "$(nproc)" --out "$out/run" --force
 "$build/hribench" render --out "$out/scene.png" --width 640 --height 480
 "$build/hribench" bench --json "$out/bench.json"

@@ -116,7 +116,7 @@ class FrameRecorder : public eval::EpisodeObserver {
 };
 
 struct CollectRequest {
-  std::string pool = "pool/v3";          // --pool
+  std::string pool = "pool/v4";          // --pool
   std::string split = "adapt";           // --split
   std::string policy = "oracle";         // --policy
   std::string cameras = "agentview,wrist";  // --cameras, comma-separated
