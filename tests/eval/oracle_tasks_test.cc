@@ -69,9 +69,12 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/X1_intrusion_yield.yaml", 1001},
                                            TaskCase{"tasks/X1_intrusion_yield.yaml", 1036},
                                            TaskCase{"tasks/X2_object_moved.yaml", 0},
-                                           // Recovery: I5, lowering onto the tray the
+                                           // Recovery: X2, the person put the bottle down on its
+                                           // side (grasped lying; pool/v4's adapt split, lying
+                                           // from 3.05 s); I5, lowering onto the tray the
                                            // person pointed at, beside them; X1 and I1, a cube
                                            // beside a bottle / a bin's wall (the other face pair).
+                                           TaskCase{"tasks/X2_object_moved.yaml", 230430266582861},
                                            TaskCase{"tasks/I5_contradiction.yaml", 42607255901691},
                                            TaskCase{"tasks/X1_intrusion_yield.yaml", 28500056551578},
                                            TaskCase{"tasks/I1_point_pick.yaml", 35293350474022},
@@ -121,17 +124,6 @@ struct BaselineCase {
   uint64_t seed;
   FailureLabel label;
 };
-
-// X2, the person put the bottle down on its side (grasped lying). Since the person's lean bends
-// the knees and keeps the head back (docs/motion.md, "Leaning"; issue 16) the bottle still lies
-// on the table at 5 s, but the oracle ends with `collision no_recovery timeout`: disabled until
-// the oracle's lying-bottle grasp is checked against the new motion (or another lying-bottle
-// seed is found).
-TEST(OracleRecovery, DISABLED_OracleGraspsABottleLyingOnItsSide) {
-  const Outcome o = run_task("tasks/X2_object_moved.yaml", 60557061292229, "oracle");
-  EXPECT_TRUE(o.metrics.success) << describe(o);
-  EXPECT_FALSE(o.metrics.human_contact) << describe(o);
-}
 
 TEST(OracleBaselines, ReactiveAndBlindFailTheIntruderTasksWithTheExpectedLabel) {
   const BaselineCase cases[] = {
