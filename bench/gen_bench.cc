@@ -48,7 +48,7 @@ void judge_batch(size_t first, int threads, const FilterOptions& filters) {
   std::atomic<size_t> next{0};
   const auto worker = [&] {
     for (size_t job = next++; job < t.names.size(); job = next++) {
-      benchmark::DoNotOptimize(judge_candidate(t.scenarios[job], t.names[job], first, 0, filters));
+      benchmark::DoNotOptimize(judge_candidate(t.scenarios[job], t.names[job], first, 0, model::kDefaultRobot, filters));
     }
   };
   std::vector<std::thread> pool;

@@ -28,6 +28,7 @@ void bind_gen(py::module_& m) {
       .def_readonly("variant", &script::EpisodeSpec::variant)
       .def_readonly("instruction", &script::EpisodeSpec::instruction)
       .def_readonly("horizon", &script::EpisodeSpec::horizon)
+      .def_readonly("robot", &script::EpisodeSpec::robot)
       .def_property_readonly("hash", [](const script::EpisodeSpec& s) { return script::spec_hash(s); })
       .def("__repr__", [](const script::EpisodeSpec& s) {
         return "<EpisodeSpec " + s.task + " seed " + std::to_string(s.seed) + ">";

@@ -39,7 +39,7 @@ def test_reset_and_step_have_the_gymnasium_signature():
 def test_reset_with_another_seed_samples_another_episode():
     env = hribench.make("I1", seed=0, horizon=0.1)
     env.reset()
-    assert env.spec.seed == 0
+    assert env.spec.seed == 0 and env.spec.robot == "panda"
     env.reset(seed=1)
     assert env.spec.seed == 1 and env.spec.hash != hribench.make("I1", seed=0).spec.hash
 
