@@ -647,16 +647,29 @@ FilterOutcome check_visibility(CandidateScene& scene) {
   return FilterOutcome::Pass();
 }
 
-FilterOutcome check_executable(const script::EpisodeSpec& spec, const std::string& policy_ref) {
-  if (policy_ref == "none") return FilterOutcome::Pass();
+namespace {
+
+// One full episode of the policy `policy_ref` on the spec, as the rollout filters run it.
+eval::ScoredEpisode roll_out(const script::EpisodeSpec& spec, const std::string& policy_ref,
+                             const eval::RunOptions& options) {
   std::unique_ptr<policy::Policy> policy = policy::make_policy(policy_ref);
   const eval::EpisodeSetup setup{spec.task, spec.role, "", spec.seed, spec.instruction, policy_ref};
-  const eval::ScoredEpisode scored = eval::run_task_episode(spec, *policy, setup, eval::RunOptions{});
+  return eval::run_task_episode(spec, *policy, setup, options);
+}
+
+// A rollout filter's rejection of an episode that did not end ok.
+FilterOutcome ended_badly(const eval::EpisodeLog& log, const std::string& policy_ref) {
+  return FilterOutcome::Fail(fmt::format("{} episode ended {}: {}", policy_ref, core::to_string(log.status),
+                                         log.status_reason));
+}
+
+}  // namespace
+
+FilterOutcome check_executable(const script::EpisodeSpec& spec, const std::string& policy_ref) {
+  if (policy_ref == "none") return FilterOutcome::Pass();
+  const eval::ScoredEpisode scored = roll_out(spec, policy_ref, eval::RunOptions{});
   const eval::EpisodeLog& log = scored.log;
-  if (log.status != core::EpisodeStatus::kOk) {
-    return FilterOutcome::Fail(fmt::format("{} episode ended {}: {}", policy_ref,
-                                           core::to_string(log.status), log.status_reason));
-  }
+  if (log.status != core::EpisodeStatus::kOk) return ended_badly(log, policy_ref);
   const eval::EpisodeMetrics& metrics = scored.metrics;
   if (!metrics.success) {
     return FilterOutcome::Fail(fmt::format(
@@ -668,16 +681,11 @@ FilterOutcome check_executable(const script::EpisodeSpec& spec, const std::strin
 
 FilterOutcome check_at_rest(const script::EpisodeSpec& spec) {
   const std::string policy_ref(kAtRestPolicy);
-  std::unique_ptr<policy::Policy> policy = policy::make_policy(policy_ref);
-  const eval::EpisodeSetup setup{spec.task, spec.role, "", spec.seed, spec.instruction, policy_ref};
   // The whole horizon: a stand-down episode that noop "succeeds" still shows the person's acts.
   eval::RunOptions options;
   options.stop_on_success = false;
-  const eval::EpisodeLog log = eval::run_task_episode(spec, *policy, setup, options).log;
-  if (log.status != core::EpisodeStatus::kOk) {
-    return FilterOutcome::Fail(fmt::format("{} episode ended {}: {}", policy_ref, core::to_string(log.status),
-                                           log.status_reason));
-  }
+  const eval::EpisodeLog log = roll_out(spec, policy_ref, options).log;
+  if (log.status != core::EpisodeStatus::kOk) return ended_badly(log, policy_ref);
   const eval::StepRecord* first_step = nullptr;
   const eval::Contact* first = nullptr;
   double peak = 0;
