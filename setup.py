@@ -24,7 +24,7 @@ class CMakeBuild(build_ext):
         build = pathlib.Path(os.environ.get("HRIBENCH_BUILD_DIR", ROOT / "build-python")).resolve()
         if not (build / "CMakeCache.txt").exists():
             subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build), "-G", "Ninja",
-                            "-DCMAKE_BUILD_TYPE=RelWithDebInfo", "-DHRIBENCH_BUILD_TESTS=OFF",
+                            "-DCMAKE_BUILD_TYPE=Release", "-DHRIBENCH_BUILD_TESTS=OFF",
                             "-DHRIBENCH_BUILD_BENCH=OFF", f"-DPython3_EXECUTABLE={sys.executable}"],
                            check=True)
         subprocess.run(["cmake", "--build", str(build), "--target", "hribench_python",
