@@ -1,14 +1,18 @@
-// `hribench video RUN EPISODE [--out FILE] [--cameras agentview[,wrist]] [--size WxH]`: the video
-// of a saved episode (eval --save-logs) from its log alone, without running the policy again
-// (io/episode_video.h, docs/videos.md). EPISODE is the log's stem (RUN/logs/STEM.hlog) or its
-// path; the video goes to RUN/videos/STEM.mp4 unless --out names another file.
+// `hribench video RUN EPISODE|--failures N [--out FILE] [--cameras agentview[,wrist]] [--size WxH]`:
+// the video of a saved episode (eval --save-logs) from its log alone, without running the policy
+// again (io/episode_video.h, docs/videos.md). EPISODE is the log's stem (RUN/logs/STEM.hlog) or
+// its path; --failures N makes the videos of the first N failed episodes of each task and policy
+// (cli/episode_choice.h), one after the other. A video goes to RUN/videos/STEM.mp4 unless --out
+// names another file.
 
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli/command.h"
+#include "cli/episode_choice.h"
 #include "core/errors.h"
 #include "eval/episode_files.h"
 #include "gen/evaluation.h"
@@ -19,7 +23,7 @@ namespace {
 
 struct VideoOptions {
   std::string run;
-  std::string episode;
+  EpisodeChoice episodes;
   std::string out;
   std::string cameras = "agentview";
   std::string size = "320x240";
@@ -43,17 +47,21 @@ void parse_panel_size(const std::string& size, io::EpisodeVideoOptions& options)
 }
 
 int run_video(const VideoOptions& o) {
-  const gen::LoggedEpisode episode = gen::load_logged_episode(o.run, o.episode);
   io::EpisodeVideoOptions options;
   parse_panel_size(o.size, options);
-  options.cameras = io::video_cameras(o.cameras, episode.spec, "--cameras");
   options.backend = render::parse_backend(o.backend);
-  const std::filesystem::path out =
-      o.out.empty() ? eval::video_file(o.run, episode.log_file.stem().string())
-                    : std::filesystem::path(o.out);
-  if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
-  io::write_episode_video(episode.spec, episode.log, out, options);
-  std::printf("hribench video: wrote %s (%zu frames)\n", out.c_str(), episode.log.steps.size());
+  const std::vector<std::string> chosen = chosen_episodes(o.run, o.episodes, o.out);
+  if (chosen.empty()) std::printf("hribench video: %s has no failed episode with a saved log\n", o.run.c_str());
+  for (const std::string& name : chosen) {
+    const gen::LoggedEpisode episode = gen::load_logged_episode(o.run, name);
+    options.cameras = io::video_cameras(o.cameras, episode.spec, "--cameras");
+    const std::filesystem::path out =
+        o.out.empty() ? eval::video_file(o.run, episode.log_file.stem().string())
+                      : std::filesystem::path(o.out);
+    if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+    io::write_episode_video(episode.spec, episode.log, out, options);
+    std::printf("hribench video: wrote %s (%zu frames)\n", out.c_str(), episode.log.steps.size());
+  }
   return 0;
 }
 
@@ -62,8 +70,7 @@ HRIB_REGISTER_COMMAND(
     [](CLI::App& app) -> std::function<int()> {
       auto o = std::make_shared<VideoOptions>();
       app.add_option("run", o->run, "The run folder (hribench eval --save-logs --out RUN)")->required();
-      app.add_option("episode", o->episode, "The episode: its log's stem (RUN/logs/STEM.hlog) or path")
-          ->required();
+      add_episode_choice(app, o->episodes);
       app.add_option("--out", o->out, "The mp4 to write (default RUN/videos/STEM.mp4)");
       app.add_option("--cameras", o->cameras, "agentview, or agentview,wrist side by side")
           ->capture_default_str();

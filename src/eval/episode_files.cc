@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <map>
+#include <utility>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -46,15 +48,42 @@ std::vector<std::string> saved_log_stems(const fs::path& run) {
   return stems;
 }
 
-fs::path find_episode_log(const fs::path& run, std::string_view episode, std::string_view where) {
-  const fs::path given(episode);
-  std::error_code ec;
-  if (given.extension() == ".hlog" && fs::is_regular_file(given, ec)) return given;
-  const std::vector<std::string> stems = saved_log_stems(run);
+namespace {
+
+std::vector<std::string> saved_log_stems_or_throw(const fs::path& run) {
+  std::vector<std::string> stems = saved_log_stems(run);
   if (stems.empty()) {
     throw core::InputError::Message(
         run.string(), "holds no episode logs (logs/*.hlog); run eval with --save-logs to keep them");
   }
+  return stems;
+}
+
+}  // namespace
+
+std::vector<std::string> first_failed_logged_stems(const fs::path& run,
+                                                   const std::vector<EpisodeResult>& episodes,
+                                                   int per_task_and_policy) {
+  const std::vector<std::string> logged = saved_log_stems_or_throw(run);
+  std::vector<std::string> stems;
+  std::map<std::pair<std::string, std::string>, int> taken;  // (task, policy) -> stems chosen
+  for (const EpisodeResult& episode : episodes) {
+    if (episode.metrics.success) continue;
+    int& count = taken[{episode.task, episode.policy}];
+    if (count >= per_task_and_policy) continue;
+    const std::string stem = episode_stem(episode);
+    if (!std::binary_search(logged.begin(), logged.end(), stem)) continue;
+    stems.push_back(stem);
+    ++count;
+  }
+  return stems;
+}
+
+fs::path find_episode_log(const fs::path& run, std::string_view episode, std::string_view where) {
+  const fs::path given(episode);
+  std::error_code ec;
+  if (given.extension() == ".hlog" && fs::is_regular_file(given, ec)) return given;
+  const std::vector<std::string> stems = saved_log_stems_or_throw(run);
   const std::string stem = given.extension() == ".hlog" ? given.stem().string() : std::string(episode);
   if (std::find(stems.begin(), stems.end(), stem) != stems.end()) return log_file(run, stem);
   std::string some;

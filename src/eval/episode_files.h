@@ -27,6 +27,15 @@ std::filesystem::path replay_file(const std::filesystem::path& run, std::string_
 // The stems of RUN/logs/*.hlog, sorted (empty when there is no logs/ folder).
 std::vector<std::string> saved_log_stems(const std::filesystem::path& run);
 
+// The failed episodes (metrics.success false) of `run` that have a saved log: the stems of
+// the first `per_task_and_policy` (>= 1) of each task and policy, in the order of `episodes`
+// (the run's results.json, eval::load_run). What `hribench video RUN --failures N` and
+// `hribench replay-html RUN --failures N` make, e.g. a few failures of each baseline for the
+// main command's report (scripts/main.sh). Throws core::InputError when `run` holds no logs.
+std::vector<std::string> first_failed_logged_stems(const std::filesystem::path& run,
+                                                   const std::vector<EpisodeResult>& episodes,
+                                                   int per_task_and_policy);
+
 // The log of an episode of `run`: `episode` is the path of a .hlog file, or a stem of
 // RUN/logs. Throws core::InputError (where = `where`, e.g. "EPISODE" or "--episode") when
 // `run` holds no logs ("... run eval with --save-logs ...") or the stem is not one of them

@@ -50,6 +50,21 @@ TEST_F(ReplayHtmlCommandTest, WritesThePageBesideTheReport) {
   EXPECT_TRUE(fs::is_regular_file(fs::path(dir_) / "elsewhere" / "page.html"));
 }
 
+// --failures 1: the page of the run's one episode (noop fails I1), where EPISODE would put it.
+TEST_F(ReplayHtmlCommandTest, FailuresWritesThePagesOfTheFirstFailures) {
+  const fs::path page = fs::path(dir_) / "logged" / "replay" / (stem_ + ".html");
+  fs::remove(page);
+  const auto r = run_hribench("replay-html " + dir_ + "/logged --failures 1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("wrote " + page.string() + " ("), std::string::npos) << r.output;
+  EXPECT_EQ(count_lines(r.output), 1) << r.output;
+  EXPECT_TRUE(fs::is_regular_file(page));
+  const auto bare = run_hribench("replay-html " + dir_ + "/bare --failures 1");
+  EXPECT_EQ(bare.exit_code, 2);
+  EXPECT_EQ(bare.output, "hribench: error: " + dir_ +
+                             "/bare: holds no episode logs (logs/*.hlog); run eval with --save-logs to keep them\n");
+}
+
 TEST_F(ReplayHtmlCommandTest, ErrorsAreOneClearLine) {
   const auto bare = run_hribench("replay-html " + dir_ + "/bare " + stem_);
   EXPECT_EQ(bare.exit_code, 2);

@@ -60,6 +60,45 @@ TEST_F(VideoRunTest, TheVideoOfASavedLogIsTheVideoEvalWrote) {
   EXPECT_EQ(read_text(again), read_text(first));
 }
 
+// --failures 1 on a copy of the run without its videos: the video of the first failed episode
+// in results.json's order (both fail, one task, one policy); --failures and EPISODE exclude each
+// other.
+TEST_F(VideoRunTest, FailuresMakesTheVideosOfTheFirstFailuresOfEachTaskAndPolicy) {
+  const fs::path copy = fs::path(temp_dir("video_command", "failures")) / "run";
+  fs::create_directories(copy);
+  fs::copy(*dir_, copy, fs::copy_options::recursive);
+  fs::remove_all(copy / "videos");
+  auto r = run_hribench("video " + copy.string() + " --failures 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(copy / "results.json");
+  const auto first = nlohmann::json::parse(in).at("episodes").at(0);
+  const std::string stem = "point_pick__noop__" + std::to_string(first.at("seed").get<uint64_t>()) + "__" +
+                           first.at("spec_hash").get<std::string>().substr(0, 12);
+  EXPECT_EQ(std::distance(fs::directory_iterator(copy / "videos"), fs::directory_iterator()), 1);
+  ASSERT_TRUE(fs::exists(copy / "videos" / (stem + ".mp4"))) << r.output;
+  const VideoProbe video = probe_video((copy / "videos" / (stem + ".mp4")).string());
+  EXPECT_EQ(video.width, 320) << "agentview alone by default";
+  EXPECT_EQ(video.frames, 31);
+  r = run_hribench("video " + copy.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("EPISODE: expected a log stem of " + copy.string() + "/logs, or --failures N, got neither"),
+            std::string::npos)
+      << r.output;
+  r = run_hribench("video " + copy.string() + " " + stem + " --failures 1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--failures: expected either EPISODE or --failures N, got both (EPISODE '" + stem + "')"),
+            std::string::npos)
+      << r.output;
+  r = run_hribench("video " + copy.string() + " --failures 0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--failures: expected a positive number, got 0"), std::string::npos) << r.output;
+  r = run_hribench("video " + copy.string() + " --failures 1 --out x.mp4");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--out: expected one EPISODE (--out names one file), got --failures, which makes several"),
+            std::string::npos)
+      << r.output;
+}
+
 TEST_F(VideoRunTest, BadRequestsAreOneLine) {
   auto r = run_hribench("video " + *dir_ + " nope");
   EXPECT_EQ(r.exit_code, 2);

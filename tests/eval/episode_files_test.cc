@@ -47,5 +47,37 @@ TEST(EpisodeFiles, FindsALogByStemOrPathAndNamesSomeThatExist) {
   fs::remove_all(run);
 }
 
+TEST(EpisodeFiles, TheFirstFailuresOfEachTaskAndPolicyThatHaveLogs) {
+  const fs::path run = ::hribench::testing::temp_dir("episode_files", "failures");
+  std::vector<EpisodeResult> episodes;
+  const auto add = [&](const std::string& task, const std::string& policy, uint64_t seed, bool success, bool logged) {
+    EpisodeResult r;
+    r.task = task;
+    r.policy = policy;
+    r.seed = seed;
+    r.spec_hash = "hash" + std::to_string(seed);
+    r.metrics.success = success;
+    episodes.push_back(r);
+    if (logged) {
+      fs::create_directories(run / "logs");
+      std::ofstream(log_file(run, episode_stem(r))) << "log";
+    }
+  };
+  EXPECT_EQ(error_of([&] { first_failed_logged_stems(run, episodes, 1); }),
+            run.string() + ": holds no episode logs (logs/*.hlog); run eval with --save-logs to keep them");
+  add("stop_go", "blind", 0, true, true);     // a success: never chosen
+  add("stop_go", "blind", 1, false, false);   // a failure without a log: passed over
+  add("stop_go", "blind", 2, false, true);    // the first failure with a log
+  add("stop_go", "blind", 3, false, true);    // the second
+  add("stop_go", "noop", 0, false, true);     // another policy: a group of its own
+  add("co_lift", "blind", 0, false, true);    // another task: a group of its own
+  EXPECT_EQ(first_failed_logged_stems(run, episodes, 1),
+            (std::vector<std::string>{"stop_go__blind__2__hash2", "stop_go__noop__0__hash0", "co_lift__blind__0__hash0"}));
+  EXPECT_EQ(first_failed_logged_stems(run, episodes, 2),
+            (std::vector<std::string>{"stop_go__blind__2__hash2", "stop_go__blind__3__hash3", "stop_go__noop__0__hash0",
+                                      "co_lift__blind__0__hash0"}));
+  fs::remove_all(run);
+}
+
 }  // namespace
 }  // namespace hribench::eval
