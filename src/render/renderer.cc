@@ -35,6 +35,18 @@ class ThrowingMujocoErrors {
   void (*previous_)(const char*);
 };
 
+// Every renderer's GL work (making and freeing its context, drawing, reading pixels) holds this
+// process-wide lock. Mesa 22's llvmpipe (osmesa, and EGL without a GPU) crashed when two
+// threads drew through their own contexts at once: a core dump of `eval --video failures` on
+// two threads has one worker inside mjr_label and the other inside mjr_render
+// (docs/rendering.md, "Threads"). llvmpipe spreads each draw over its own rasterizer threads,
+// so serialising draws costs little; simulation, encoding and everything else stay parallel.
+// MuJoCo's GL loading (mjr_makeContext) and its global mju_user_error need the same lock.
+std::mutex& gl_work_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
 // Room for everything mjv_updateScene may add with default options (geoms, sites, tendon
 // segments, lights' decor), so it never raises mjWARN_VGEOMFULL into the caller's mjData.
 int scene_capacity(const mjModel& m) {
@@ -82,6 +94,7 @@ Renderer::Renderer(Backend backend, const mjModel& m, int width, int height,
     gl_renderer_ = "none";
     return;
   }
+  const std::lock_guard<std::mutex> lock(gl_work_mutex());
   gl_ = thread_gl_context(backend);
   gl_->make_current();
   gl_renderer_ = gl_->gl_renderer();
@@ -94,12 +107,10 @@ Renderer::Renderer(Backend backend, const mjModel& m, int width, int height,
   sized.vis.quality.offsamples = settings.multisamples;
   if (settings.shadow_map_size > 0) sized.vis.quality.shadowsize = settings.shadow_map_size;
   if (!settings.shadows) sized.vis.quality.shadowsize = 1;  // no shadow map memory or cost
-  // mju_user_error is process-global and MuJoCo's GL loading is not thread-safe: one renderer
-  // at a time makes its scene and context, so a concurrent constructor can neither see the
-  // throwing handler as "previous" nor leave it installed.
-  static std::mutex make_context_mutex;
+  // mju_user_error is process-global and MuJoCo's GL loading is not thread-safe: under the lock
+  // a concurrent constructor can neither see the throwing handler as "previous" nor leave it
+  // installed.
   try {
-    const std::lock_guard<std::mutex> lock(make_context_mutex);
     ThrowingMujocoErrors errors;
     mjv_makeScene(&m, &scene_, scene_capacity(m));
     mjr_makeContext(&sized, &context_, settings.font_scale);
@@ -127,6 +138,7 @@ Renderer::Renderer(Backend backend, const mjModel& m, int width, int height,
 
 Renderer::~Renderer() {
   if (gl_ == nullptr) return;
+  const std::lock_guard<std::mutex> lock(gl_work_mutex());
   gl_->make_current();
   mjr_freeContext(&context_);
   mjv_freeScene(&scene_);
@@ -157,9 +169,12 @@ bool Renderer::render(const mjModel& m, const mjData& d, const mjvCamera& camera
     out.resize(0, 0);
     return false;
   }
-  draw(m, d, camera);
   out.resize(width_, height_);
-  mjr_readPixels(out.rgb.data(), nullptr, mjrRect{0, 0, width_, height_}, &context_);
+  {
+    const std::lock_guard<std::mutex> lock(gl_work_mutex());
+    draw(m, d, camera);
+    mjr_readPixels(out.rgb.data(), nullptr, mjrRect{0, 0, width_, height_}, &context_);
+  }
   flip_rows(out.rgb.data(), width_, height_, 3);
   return true;
 }
@@ -176,6 +191,8 @@ bool Renderer::render_panels(const mjModel& m, const mjData& d,
   HRIB_CHECK(panels > 0 && width_ % panels == 0 && band_height >= 0 && band_height < height_)
       << panels << " panels and a band of " << band_height << " px in " << width_ << "x" << height_;
   const int panel_width = width_ / panels;
+  out.resize(width_, height_);
+  const std::lock_guard<std::mutex> lock(gl_work_mutex());
   gl_->make_current();
   mjr_setBuffer(mjFB_OFFSCREEN, &context_);
   for (int i = 0; i < panels; ++i) {
@@ -195,7 +212,6 @@ bool Renderer::render_panels(const mjModel& m, const mjData& d,
                 1, 1, 1, &context_);
     }
   }
-  out.resize(width_, height_);
   mjr_readPixels(out.rgb.data(), nullptr, mjrRect{0, 0, width_, height_}, &context_);
   flip_rows(out.rgb.data(), width_, height_, 3);
   return true;
@@ -209,13 +225,16 @@ bool Renderer::render_segmentation(const mjModel& m, const mjData& d, int camera
   }
   const mjvCamera camera = fixed_camera(m, camera_id);
   // Each scene geom is drawn in the flat colour segid + 1 (background 0).
-  scene_.flags[mjRND_SEGMENT] = 1;
-  scene_.flags[mjRND_IDCOLOR] = 1;
-  draw(m, d, camera);
-  scene_.flags[mjRND_SEGMENT] = 0;
-  scene_.flags[mjRND_IDCOLOR] = 0;
   segment_rgb_.resize(static_cast<size_t>(width_) * static_cast<size_t>(height_) * 3);
-  mjr_readPixels(segment_rgb_.data(), nullptr, mjrRect{0, 0, width_, height_}, &context_);
+  {
+    const std::lock_guard<std::mutex> lock(gl_work_mutex());
+    scene_.flags[mjRND_SEGMENT] = 1;
+    scene_.flags[mjRND_IDCOLOR] = 1;
+    draw(m, d, camera);
+    scene_.flags[mjRND_SEGMENT] = 0;
+    scene_.flags[mjRND_IDCOLOR] = 0;
+    mjr_readPixels(segment_rgb_.data(), nullptr, mjrRect{0, 0, width_, height_}, &context_);
+  }
   flip_rows(segment_rgb_.data(), width_, height_, 3);
   out.resize(width_, height_);
   for (size_t i = 0; i < out.geom.size(); ++i) {

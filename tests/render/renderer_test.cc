@@ -299,5 +299,31 @@ TEST_F(DefaultSceneTest, WristCameraSeesTheFingers) {
   EXPECT_GT(fingers, 0);
 }
 
+TEST_F(DefaultSceneTest, ThreadsDrawVideoFramesAtOnce) {
+  // Video frames (panels and a text band) drawn by renderers on two threads at once, made and
+  // freed repeatedly, are the frame drawn alone (the GL lock of docs/rendering.md, "Threads").
+  const model::Model& model = model_;
+  const sim::Data& data = data_;
+  RenderSettings settings;
+  settings.font_scale = 100;
+  const std::vector<BandRow> band(2, BandRow(3, BandCell{"t 8.00 s", {0.1F, 0.2F, 0.3F}}));
+  const std::vector<int> cameras = {model.agentview_camera, model.wrist_camera};
+  Image reference;
+  ASSERT_TRUE(Renderer(Backend::kOsmesa, *model.m(), 128, 88, settings)
+                  .render_panels(*model.m(), *data.mj, cameras, band, 12, reference));
+  std::vector<Image> images(2);
+  std::vector<std::thread> threads;
+  for (size_t t = 0; t < images.size(); ++t) {
+    threads.emplace_back([&, t] {
+      for (int k = 0; k < 4; ++k) {
+        Renderer renderer(Backend::kOsmesa, *model.m(), 128, 88, settings);
+        for (int i = 0; i < 10; ++i) renderer.render_panels(*model.m(), *data.mj, cameras, band, 12, images[t]);
+      }
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  for (const Image& image : images) EXPECT_EQ(image.rgb, reference.rgb);
+}
+
 }  // namespace
 }  // namespace hribench::render
