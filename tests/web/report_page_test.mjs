@@ -7,7 +7,7 @@ import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
 
-import { chromium, docPicture, elapsed, hribench, makeRun, openPage, stem } from './support.mjs';
+import { checkRunPages, chromium, docPicture, elapsed, hribench, makeRun, openPage, stem } from './support.mjs';
 
 const start = Date.now();
 const browser = await chromium();
@@ -15,29 +15,19 @@ const { dir, run, results } = makeRun('report');
 try {
   const report = path.join(run, 'report.html');
   assert.ok(fs.existsSync(report), 'eval writes report.html');
+  // Bars, dots and rows, as many as results.json implies; no link yet.
+  const { aggregates, episodes } = results;
+  assert.deepEqual(await checkRunPages(browser, run), { episodes: 2, videos: 0, replays: 0 });
   const { page, problems } = await openPage(browser, report);
   const count = (selector) => page.locator(selector).count();
-
-  // Bars and dots, as many as results.json implies.
-  const { aggregates, episodes } = results;
-  assert.equal(await count('#csr-by-task rect.bar'), aggregates.task.filter((r) => r.csr !== null).length);
-  assert.equal(await count('#csr-by-role rect.bar'), aggregates.role.filter((r) => r.csr !== null).length);
-  const labelled = aggregates.overall.reduce((n, r) => n + Object.values(r.failures).filter((v) => v > 0).length, 0);
-  assert.ok(labelled > 0, 'noop fails');
-  assert.equal(await count('#failures rect.bar'), labelled);
-  assert.equal(await count('#rsp circle.dot'), episodes.filter((e) => e.response_latency !== null).length);
-  assert.equal(await count('#tsync circle.dot'), episodes.filter((e) => e.tsync !== null).length);
+  assert.ok(await count('#failures rect.bar') > 0, 'noop fails');
   // A bar's height is its CSR.
   for (const r of aggregates.task) {
     const group = r.task_id ? `${r.task_id} ${r.group}` : r.group;
     const bar = page.locator(`#csr-by-task rect.bar[data-policy="${r.policy}"][data-group="${group}"]`);
     assert.equal(Number(await bar.getAttribute('data-value')), r.csr.value);
   }
-  assert.equal(await count('#headline tr'), 1 + aggregates.role.length + aggregates.overall.length);
-  assert.equal(await count('#episodes tr.episode'), episodes.length);
-
-  // No video and no replay yet: no links; the timeline is the first failed episode's.
-  assert.equal(await count('#episodes a'), 0);
+  // The timeline is the first failed episode's.
   const failed = episodes.find((e) => !e.success);
   assert.ok(failed);
   const timelineText = await page.locator('#timeline-section + p').innerText();
@@ -61,6 +51,13 @@ try {
   assert.match(await second.page.locator('#timeline-section + p').innerText(), new RegExp(`^${stem(oracle)} \\(--episode\\)`));
   assert.deepEqual(second.problems, []);
   docPicture('report.png', await second.page.screenshot({ type: 'png' }));
+
+  // What the README's main command does: the video and the replay of the first failure of each
+  // task and policy (noop's here), the page rewritten; every link a file, every page clean.
+  hribench(['video', run, '--failures', '1']);
+  hribench(['replay-html', run, '--failures', '1']);
+  hribench(['report', run, '--format', 'html']);
+  assert.deepEqual(await checkRunPages(browser, run), { episodes: 2, videos: 1, replays: 2 });
   console.log(`report page: ${(fs.statSync(report).size / 1e3).toFixed(0)} kB, test ${elapsed(start)}`);
 } finally {
   await browser.close();

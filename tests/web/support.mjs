@@ -1,8 +1,8 @@
 // What the browser tests share (tests/web/*_test.mjs, docs/report.md): the tools they need
 // (Node.js, Debian's Chromium, playwright-core from node_modules — a missing one fails the test
 // with what to install, never passes it), a small real run made with the built `hribench`,
-// a page opened from disk that records console errors and every request, and a PNG decoder
-// for screenshots.
+// a page opened from disk that records console errors and every request, the check of a whole
+// run's pages (also tests/web/check_run_pages.mjs RUN), and a PNG decoder for screenshots.
 
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
@@ -71,6 +71,45 @@ export async function openPage(browser, file, viewport = { width: 1100, height: 
   });
   await page.goto(url);
   return { page, problems };
+}
+
+// Checks the pages of a run folder (RUN/report.html and every RUN/replay/*.html) in `browser`:
+// each opens from disk with no console error and no request; the report has one bar per
+// (group, policy) and per policy's failure label and one dot per episode with the metric, as
+// results.json implies, and one row per episode; its links are exactly the run's videos and
+// replay pages of its episodes (RUN/videos/STEM.mp4, RUN/replay/STEM.html), each an existing
+// file; every replay page gets ready with at least one frame. Returns what it counted.
+export async function checkRunPages(browser, run) {
+  const results = JSON.parse(fs.readFileSync(path.join(run, 'results.json'), 'utf8'));
+  const { page, problems } = await openPage(browser, path.join(run, 'report.html'));
+  const count = (selector) => page.locator(selector).count();
+  const { aggregates, episodes } = results;
+  assert.equal(await count('#csr-by-task rect.bar'), aggregates.task.filter((r) => r.csr !== null).length);
+  assert.equal(await count('#csr-by-role rect.bar'), aggregates.role.filter((r) => r.csr !== null).length);
+  const labelled = aggregates.overall.reduce((n, r) => n + Object.values(r.failures).filter((v) => v > 0).length, 0);
+  assert.equal(await count('#failures rect.bar'), labelled);
+  assert.equal(await count('#rsp circle.dot'), episodes.filter((e) => e.response_latency !== null).length);
+  assert.equal(await count('#tsync circle.dot'), episodes.filter((e) => e.tsync !== null).length);
+  assert.equal(await count('#headline tr'), 1 + aggregates.role.length + aggregates.overall.length);
+  assert.equal(await count('#episodes tr.episode'), episodes.length);
+  // The run's files of its episodes, and the report's links.
+  const stems = new Set(episodes.map(stem));
+  const files = (folder, extension) => (fs.existsSync(path.join(run, folder)) ? fs.readdirSync(path.join(run, folder)) : [])
+    .filter((f) => f.endsWith(extension) && stems.has(f.slice(0, -extension.length))).map((f) => `${folder}/${f}`);
+  const videos = files('videos', '.mp4');
+  const replays = files('replay', '.html');
+  const links = await page.locator('#episodes a').evaluateAll((as) => as.map((a) => a.getAttribute('href')));
+  assert.deepEqual([...links].sort(), [...videos, ...replays].sort(), 'the report links every video and replay page, nothing else');
+  assert.deepEqual(problems, [], 'report.html');
+  await page.close();
+  for (const replay of replays) {
+    const opened = await openPage(browser, path.join(run, replay), { width: 640, height: 480 });
+    await opened.page.waitForFunction(() => window.hribenchReplay && window.hribenchReplay.ready, null, { timeout: 60000 });
+    assert.ok(await opened.page.evaluate(() => hribenchReplay.frames()) > 0, replay);
+    assert.deepEqual(opened.problems, [], replay);
+    await opened.page.close();
+  }
+  return { episodes: episodes.length, videos: videos.length, replays: replays.length };
 }
 
 // RGBA pixels of an 8-bit RGB or RGBA, non-interlaced PNG (what Chromium's screenshots are).
