@@ -5,38 +5,10 @@
 // that change when either is hidden).
 
 import assert from 'node:assert/strict';
-import { spawnSync } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
 
-import { chromium, decodePng, docPicture, elapsed, hribench, makeRun, openPage, root, stem } from './support.mjs';
-
-// The log's step times and TCP positions, through hribench.load_log (docs/python.md).
-function logSteps(file) {
-  const pythonPath = process.env.HRIBENCH_PYTHONPATH || path.join(root, 'build', 'python');
-  const script = 'import hribench, json, sys; l = hribench.load_log(sys.argv[1]); ' +
-                 'print(json.dumps({"time": l["time"].tolist(), "tcp": l["tcp_pose"][:, :3].tolist(), ' +
-                 '"contact_steps": sorted(set(l["contacts"]["step"].tolist()))}))';
-  const result = spawnSync('/usr/bin/python3', ['-c', script, file], {
-    encoding: 'utf8', env: { ...process.env, PYTHONPATH: pythonPath } });
-  if (result.status !== 0) {
-    throw new Error(`FAIL: the Python module hribench (${pythonPath}) could not read the log; build it ` +
-                    `(cmake --build build --target hribench_python):\n${result.stderr}`);
-  }
-  return JSON.parse(result.stdout);
-}
-
-// Pixels that differ by more than a little between two screenshots of the same size.
-function changedPixels(a, b) {
-  assert.equal(a.pixels.length, b.pixels.length);
-  let n = 0;
-  for (let i = 0; i < a.pixels.length; i += 4) {
-    const d = Math.abs(a.pixels[i] - b.pixels[i]) + Math.abs(a.pixels[i + 1] - b.pixels[i + 1]) +
-              Math.abs(a.pixels[i + 2] - b.pixels[i + 2]);
-    if (d > 30) ++n;
-  }
-  return n;
-}
+import { checkReplayAgainstLog, chromium, docPicture, elapsed, hribench, logSteps, makeRun, openPage, stem } from './support.mjs';
 
 const start = Date.now();
 const browser = await chromium();
@@ -50,16 +22,10 @@ try {
 
   const { page, problems } = await openPage(browser, file, { width: 960, height: 720 });
   await page.waitForFunction(() => window.hribenchReplay && window.hribenchReplay.ready, null, { timeout: 60000 });
-  assert.equal(await page.evaluate(() => hribenchReplay.frames()), steps.time.length);
-
-  // The end-effector as drawn at three steps, against the log (1 mm quantisation of the page).
+  // One frame per step, the end-effector at three steps (1 mm quantisation of the page), robot
+  // and person pixels (what changes when each is hidden).
+  await checkReplayAgainstLog(page, steps, name);
   const last = steps.time.length - 1;
-  for (const k of [0, Math.floor(last / 2), last]) {
-    const [time, position] = await page.evaluate((t) => [hribenchReplay.seek(t), hribenchReplay.endEffectorPosition()], steps.time[k]);
-    assert.ok(Math.abs(time - steps.time[k]) < 1e-3, `seek(${steps.time[k]}) showed ${time}`);
-    const error = Math.hypot(...position.map((v, i) => v - steps.tcp[k][i]));
-    assert.ok(error < 2e-3, `step ${k}: the page's end-effector ${position} is ${error} m from the log's ${steps.tcp[k]}`);
-  }
 
   // Contact points: none at the start (the robot at home), some while the oracle holds the object.
   assert.ok(steps.contact_steps.length > 0, 'the oracle grasps');
@@ -68,20 +34,6 @@ try {
   const points = await page.evaluate((t) => { hribenchReplay.seek(t); return hribenchReplay.contactPoints(); }, steps.time[held]);
   assert.ok(points.length > 0, `contact points at step ${held}`);
   for (const p of points) assert.ok(Math.hypot(...p.map((v, i) => v - steps.tcp[held][i])) < 0.15, `a contact ${p} by the hand`);
-
-  // Robot and person pixels: what changes when each is hidden.
-  await page.evaluate((t) => hribenchReplay.seek(t), steps.time[Math.floor(last / 2)]);
-  const view = page.locator('#view');
-  const shot = async () => decodePng(await view.screenshot({ type: 'png' }));
-  const full = await shot();
-  for (const category of ['robot', 'human']) {
-    await page.evaluate((c) => hribenchReplay.setVisible(c, false), category);
-    const without = await shot();
-    await page.evaluate((c) => hribenchReplay.setVisible(c, true), category);
-    const changed = changedPixels(full, without);
-    assert.ok(changed > 0.01 * full.width * full.height, `${category}: ${changed} pixels of ${full.width}x${full.height}`);
-  }
-  assert.equal(changedPixels(full, await shot()), 0, 'shown again, the same picture');
 
   // The controls: play moves time on, pause stops it; the scrubber and an event marker seek.
   await page.evaluate(() => hribenchReplay.seek(0));

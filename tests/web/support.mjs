@@ -1,8 +1,9 @@
 // What the browser tests share (tests/web/*_test.mjs, docs/report.md): the tools they need
 // (Node.js, Debian's Chromium, playwright-core from node_modules — a missing one fails the test
 // with what to install, never passes it), a small real run made with the built `hribench`,
-// a page opened from disk that records console errors and every request, the check of a whole
-// run's pages (also tests/web/check_run_pages.mjs RUN), and a PNG decoder for screenshots.
+// a page opened from disk that records console errors and every request, a replay page checked
+// against its log, the check of a whole run's pages (also tests/web/check_run_pages.mjs RUN),
+// and a PNG decoder for screenshots.
 
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
@@ -73,12 +74,69 @@ export async function openPage(browser, file, viewport = { width: 1100, height: 
   return { page, problems };
 }
 
+// The log's step times, TCP positions and contact steps, through hribench.load_log
+// (docs/python.md): the page's numbers are checked against the log read by other code.
+export function logSteps(file) {
+  const pythonPath = process.env.HRIBENCH_PYTHONPATH || path.join(root, 'build', 'python');
+  const script = 'import hribench, json, sys; l = hribench.load_log(sys.argv[1]); ' +
+                 'print(json.dumps({"time": l["time"].tolist(), "tcp": l["tcp_pose"][:, :3].tolist(), ' +
+                 '"contact_steps": sorted(set(l["contacts"]["step"].tolist()))}))';
+  const result = spawnSync('/usr/bin/python3', ['-c', script, file], {
+    encoding: 'utf8', env: { ...process.env, PYTHONPATH: pythonPath } });
+  if (result.status !== 0) {
+    throw new Error(`FAIL: the Python module hribench (${pythonPath}) could not read the log; build it ` +
+                    `(cmake --build build --target hribench_python):\n${result.stderr}`);
+  }
+  return JSON.parse(result.stdout);
+}
+
+// Pixels that differ by more than a little between two screenshots of the same size.
+export function changedPixels(a, b) {
+  assert.equal(a.pixels.length, b.pixels.length);
+  let n = 0;
+  for (let i = 0; i < a.pixels.length; i += 4) {
+    const d = Math.abs(a.pixels[i] - b.pixels[i]) + Math.abs(a.pixels[i + 1] - b.pixels[i + 1]) +
+              Math.abs(a.pixels[i + 2] - b.pixels[i + 2]);
+    if (d > 30) ++n;
+  }
+  return n;
+}
+
+// On an open replay page of the log `steps` (logSteps): it has one frame per step; seeking to
+// the first, middle and last step puts the drawn end-effector within 2 mm of the log's X_WT;
+// hiding the robot, then the person, changes over 1 % of the view's pixels each. Returns the
+// middle step's index.
+export async function checkReplayAgainstLog(page, steps, what) {
+  assert.equal(await page.evaluate(() => hribenchReplay.frames()), steps.time.length, what);
+  const last = steps.time.length - 1;
+  for (const k of [0, Math.floor(last / 2), last]) {
+    const [time, position] = await page.evaluate((t) => [hribenchReplay.seek(t), hribenchReplay.endEffectorPosition()], steps.time[k]);
+    assert.ok(Math.abs(time - steps.time[k]) < 1e-3, `${what}: seek(${steps.time[k]}) showed ${time}`);
+    const error = Math.hypot(...position.map((v, i) => v - steps.tcp[k][i]));
+    assert.ok(error < 2e-3, `${what}, step ${k}: the page's end-effector ${position} is ${error} m from the log's ${steps.tcp[k]}`);
+  }
+  await page.evaluate((t) => hribenchReplay.seek(t), steps.time[Math.floor(last / 2)]);
+  const view = page.locator('#view');
+  const shot = async () => decodePng(await view.screenshot({ type: 'png' }));
+  const full = await shot();
+  for (const category of ['robot', 'human']) {
+    await page.evaluate((c) => hribenchReplay.setVisible(c, false), category);
+    const without = await shot();
+    await page.evaluate((c) => hribenchReplay.setVisible(c, true), category);
+    const changed = changedPixels(full, without);
+    assert.ok(changed > 0.01 * full.width * full.height, `${what}, ${category}: ${changed} pixels of ${full.width}x${full.height}`);
+  }
+  assert.equal(changedPixels(full, await shot()), 0, `${what}: shown again, the same picture`);
+  return Math.floor(last / 2);
+}
+
 // Checks the pages of a run folder (RUN/report.html and every RUN/replay/*.html) in `browser`:
 // each opens from disk with no console error and no request; the report has one bar per
 // (group, policy) and per policy's failure label and one dot per episode with the metric, as
 // results.json implies, and one row per episode; its links are exactly the run's videos and
 // replay pages of its episodes (RUN/videos/STEM.mp4, RUN/replay/STEM.html), each an existing
-// file; every replay page gets ready with at least one frame. Returns what it counted.
+// file; every replay page gets ready and matches its log (checkReplayAgainstLog). Returns
+// what it counted.
 export async function checkRunPages(browser, run) {
   const results = JSON.parse(fs.readFileSync(path.join(run, 'results.json'), 'utf8'));
   const { page, problems } = await openPage(browser, path.join(run, 'report.html'));
@@ -105,7 +163,8 @@ export async function checkRunPages(browser, run) {
   for (const replay of replays) {
     const opened = await openPage(browser, path.join(run, replay), { width: 640, height: 480 });
     await opened.page.waitForFunction(() => window.hribenchReplay && window.hribenchReplay.ready, null, { timeout: 60000 });
-    assert.ok(await opened.page.evaluate(() => hribenchReplay.frames()) > 0, replay);
+    const log = path.join(run, 'logs', `${path.basename(replay, '.html')}.hlog`);
+    await checkReplayAgainstLog(opened.page, logSteps(log), replay);
     assert.deepEqual(opened.problems, [], replay);
     await opened.page.close();
   }
