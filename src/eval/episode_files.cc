@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <map>
-#include <utility>
 #include <system_error>
+#include <utility>
 
 #include <fmt/format.h>
 

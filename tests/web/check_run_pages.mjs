@@ -1,7 +1,8 @@
 // `node tests/web/check_run_pages.mjs RUN`: opens a run's report page and every replay page in
 // Debian's Chromium and checks them (checkRunPages in support.mjs, docs/report.md): no console
 // error, no request, the charts and rows results.json implies, links to exactly the run's videos
-// and replay pages. Prints what it counted; exits 1 on the first failure.
+// and replay pages, every replay page against its own log. Prints what it counted; exits 1 on
+// the first failure.
 
 import path from 'node:path';
 
