@@ -154,17 +154,7 @@ policy::Action action_from_python(const py::handle& action, const eval::Episode&
   return std::move(chunk.actions[0]);
 }
 
-// The dense reward of the episode's latest step, term by term (eval/reward.h), with the
-// script's weights.
-py::dict dense_reward(const eval::Episode& e) {
-  if (!e.contract() || !e.spec()) {
-    throw core::InputError("reward", "an episode of a task (its contract)", "a bare episode");
-  }
-  const eval::RewardTerms r =
-      e.log().steps.size() < 2
-          ? eval::RewardTerms{}
-          : eval::dense_reward(*e.contract(), e.log(), e.log().steps.size() - 1,
-                               e.spec()->reward.value_or(script::RewardWeights{}), e.options().constants);
+py::dict terms_dict(const eval::RewardTerms& r) {
   py::dict d;
   d["progress"] = r.progress;
   d["success"] = r.success;
@@ -173,6 +163,20 @@ py::dict dense_reward(const eval::Episode& e) {
   d["contact"] = r.contact;
   d["total"] = r.total();
   return d;
+}
+
+// The dense reward of the episode's latest step, term by term (eval/reward.h), with the
+// script's weights.
+py::dict dense_reward(const eval::Episode& e) {
+  if (!e.contract() || !e.spec()) {
+    throw core::InputError("reward", "an episode of a task (its contract)", "a bare episode");
+  }
+  if (e.log().steps.size() < 2) return terms_dict(eval::RewardTerms{});
+  // The episode's last step pays the success term (eval/reward.h).
+  const std::optional<eval::EpisodeMetrics> ended = e.done() ? std::optional(e.metrics()) : std::nullopt;
+  return terms_dict(eval::dense_reward(*e.contract(), e.log(), e.log().steps.size() - 1,
+                                       e.spec()->reward.value_or(script::RewardWeights{}),
+                                       e.options().constants, ended ? &*ended : nullptr));
 }
 
 std::string result_json(const eval::Episode& episode) {

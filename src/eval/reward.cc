@@ -66,7 +66,8 @@ double contact_grade(human::BodyRegion region) {
 }
 
 RewardTerms dense_reward(const ScenarioContract& contract, const EpisodeLog& log, size_t k,
-                         const script::RewardWeights& w, const MetricConstants& c) {
+                         const script::RewardWeights& w, const MetricConstants& c,
+                         const EpisodeMetrics* ended) {
   HRIB_CHECK(k >= 1 && k < log.steps.size()) << "step " << k << " of " << log.steps.size();
   const StepRecord& s = log.steps[k];
   const StepRecord& prev = log.steps[k - 1];
@@ -79,14 +80,10 @@ RewardTerms dense_reward(const ScenarioContract& contract, const EpisodeLog& log
     r.progress = w.progress * (before - after);
   }
 
-  if (const std::optional<size_t> i = log.predicate_index(contract.success_predicate)) {
-    const auto holds = [&](size_t step) { return log.steps[step].predicates[*i] != 0; };
-    bool before = false;
-    for (size_t j = 0; j < k && !before; ++j) before = holds(j);
-    if (holds(k) && !before) r.success = w.success;
-  }
+  if (ended && ended->success) r.success = w.success;
 
-  // Premature: the current act answers go cues and none of them has allowed motion yet.
+  // Premature: the current act answers go cues and none of them has allowed motion yet, and
+  // the tool moves toward the act's goal faster than an answer's onset (the metrics' rule).
   if (const RobotActContract* act = current_act(contract, log, prev.time, c)) {
     bool answers = false;
     bool allowed = false;
@@ -96,8 +93,15 @@ RewardTerms dense_reward(const ScenarioContract& contract, const EpisodeLog& log
       const std::string& from = cue.motion_allowed_from.empty() ? cue.event : cue.motion_allowed_from;
       allowed = allowed || happened_by(log, from, prev.time, c).has_value();
     }
-    if (answers && !allowed) {
-      r.premature_motion = -w.premature_motion * (s.X_WT.translation - prev.X_WT.translation).norm();
+    if (answers && !allowed && dt > 0) {
+      const core::Vec3 step = s.X_WT.translation - prev.X_WT.translation;
+      double toward = step.norm();
+      if (act->goal_W) {
+        const core::Vec3 to_goal = *act->goal_W - prev.X_WT.translation;
+        const double distance = to_goal.norm();
+        toward = distance < c.goal_reached_distance ? 0.0 : step.dot(to_goal / distance);
+      }
+      if (toward / dt > c.response_speed) r.premature_motion = -w.premature_motion * toward;
     }
   }
 
@@ -123,9 +127,11 @@ RewardTerms dense_reward(const ScenarioContract& contract, const EpisodeLog& log
 
 RewardTerms dense_return(const ScenarioContract& contract, const EpisodeLog& log,
                          const script::RewardWeights& weights, const MetricConstants& constants) {
+  const EpisodeMetrics metrics = compute_metrics(contract, log, constants);
   RewardTerms sum;
   for (size_t k = 1; k < log.steps.size(); ++k) {
-    const RewardTerms r = dense_reward(contract, log, k, weights, constants);
+    const RewardTerms r =
+        dense_reward(contract, log, k, weights, constants, k + 1 == log.steps.size() ? &metrics : nullptr);
     sum.progress += r.progress;
     sum.success += r.success;
     sum.premature_motion += r.premature_motion;

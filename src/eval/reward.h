@@ -8,8 +8,15 @@
 //   progress          +w * (d_{k-1} - d_k): d = distance (m) from the tool (TCP) to the goal
 //                     of the current robot act, the first of the contract's robot acts whose
 //                     "ACT.end" event has not happened by t_k (acts without a goal: 0);
-//   success           +w once, at the first step at which the success predicate holds;
-//   premature_motion  -w * |tool displacement| (m) while the current act answers go cues and
+//   success           +w once, at the episode's last step, if the episode succeeds by the
+//                     metrics (EpisodeMetrics::success, the sparse reward's condition: success
+//                     held at the end, every act in order, no premature answer, no critical
+//                     contact), so a robot that finishes the task but fails the interaction
+//                     earns no bonus;
+//   premature_motion  -w * the tool's displacement toward the current act's goal (m; without a
+//                     goal, its whole displacement) in a step whose speed toward it exceeds
+//                     response_speed (the metrics' onset threshold: slower drift, backing off
+//                     and holding are not answers), while the current act answers go cues and
 //                     none of them allows motion yet (CueContract::motion_allowed_from, else
 //                     the cue's event, has not happened by t_{k-1});
 //   separation        -w * dt while the separation is a violation by HCS's rule (docs/metrics.md:
@@ -25,6 +32,7 @@
 #include "eval/constants.h"
 #include "eval/contract.h"
 #include "eval/episode_log.h"
+#include "eval/metrics.h"
 #include "human/skeleton.h"
 #include "script/scenario.h"
 
@@ -41,11 +49,14 @@ struct RewardTerms {
 };
 
 // The reward of `log`'s step k (1 <= k < log.steps.size(); HRIB_CHECK), from the steps and
-// events up to it.
+// events up to it. `ended`: the episode's metrics when step k is its last (the episode is
+// over), else null; only then is the success term paid.
 RewardTerms dense_reward(const ScenarioContract& contract, const EpisodeLog& log, size_t k,
-                         const script::RewardWeights& weights, const MetricConstants& constants);
+                         const script::RewardWeights& weights, const MetricConstants& constants,
+                         const EpisodeMetrics* ended = nullptr);
 
-// The sum of dense_reward over every step of the log (the episode's return).
+// The sum of dense_reward over every step of a finished episode's log (the episode's return;
+// its metrics are computed for the last step's success term).
 RewardTerms dense_return(const ScenarioContract& contract, const EpisodeLog& log,
                          const script::RewardWeights& weights, const MetricConstants& constants);
 

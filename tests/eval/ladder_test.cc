@@ -5,6 +5,8 @@
 // them may score better than the oracle on a metric the oracle's behaviour is meant to win;
 // the exceptions are listed below with the reason docs/metrics.md gives for each.
 // One seeded episode per task (seeds the oracle solves, as in oracle_tasks_test.cc).
+// The dense reward's return (eval/reward.h) must order oracle, reactive and blind too, on
+// seeds 0-4 of every task: the metrics' ladder seed here, the other seeds in DenseLadder.
 // HRIB_LADDER_PRINT=1 prints every comparison.
 
 #include <gtest/gtest.h>
@@ -15,16 +17,19 @@
 #include <cstdlib>
 #include <functional>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
 #include "eval/metrics.h"
+#include "eval/reward.h"
 #include "eval/task_run.h"
 
 namespace hribench::eval {
 namespace {
 
-using testing::run_task;
+using testing::RewardedEpisode;
+using testing::run_task_rewarded;
 
 struct Metric {
   const char* name;
@@ -117,18 +122,83 @@ struct TaskCase {
   const char* file;
   uint64_t seed;
 };
+void PrintTo(const TaskCase& c, std::ostream* os) { *os << c.file << " seed " << c.seed; }
+
+// The metrics' ladder compares on these seeds (the oracle solves them).
+const std::vector<TaskCase> kLadderCases = {
+    {"tasks/I1_point_pick.yaml", 0},     {"tasks/I2_gesture_delivery.yaml", 0},
+    {"tasks/I3_demo_imitate.yaml", 0},   {"tasks/I4_stop_go.yaml", 1},
+    {"tasks/I5_contradiction.yaml", 0},  {"tasks/I5_contradiction.yaml", 1},
+    {"tasks/C1_handover_h2r.yaml", 0},   {"tasks/C2_handover_r2h.yaml", 1},
+    {"tasks/C3_box_retrieval.yaml", 0},  {"tasks/C4_co_lift.yaml", 0},
+    {"tasks/X1_intrusion_yield.yaml", 0}, {"tasks/X2_object_moved.yaml", 0},
+    {"tasks/X3_someone_else_places.yaml", 0}, {"tasks/X4_blocked_target.yaml", 0}};
+
+// Seeds 0-4 of every task that the metrics' ladder does not already run.
+std::vector<TaskCase> other_seeds_0_to_4() {
+  std::vector<TaskCase> cases;
+  for (size_t i = 0; i < kLadderCases.size(); ++i) {
+    const std::string file = kLadderCases[i].file;
+    if (i > 0 && file == kLadderCases[i - 1].file) continue;
+    for (uint64_t seed = 0; seed < 5; ++seed) {
+      const bool in_ladder = std::any_of(kLadderCases.begin(), kLadderCases.end(), [&](const TaskCase& c) {
+        return c.file == file && c.seed == seed;
+      });
+      if (!in_ladder) cases.push_back({kLadderCases[i].file, seed});
+    }
+  }
+  return cases;
+}
+
+// Between two episodes that end alike (both succeed or both fail) the dense return's shaping
+// terms may put the lower rung ahead by at most this much (3 % of the success bonus): the
+// oracle's safety layer can keep it near the person a few control steps longer than reactive
+// (docs/python.md "Rewards" lists the cases).
+constexpr double kShapingSlack = 0.3;
+
+// The dense return orders `better` above `worse` (docs/python.md "Rewards"): the better rung
+// does not fail where the worse one succeeds; where it succeeds and the worse one fails, its
+// return is higher; otherwise its return is at least the worse one's less kShapingSlack.
+void expect_dense_order(const RewardedEpisode& better, const char* better_name, const RewardedEpisode& worse,
+                        const char* worse_name, const TaskCase& c) {
+  const double b = better.dense_return.total();
+  const double w = worse.dense_return.total();
+  const bool b_success = better.scored.metrics.success;
+  const bool w_success = worse.scored.metrics.success;
+  if (std::getenv("HRIB_LADDER_PRINT")) {
+    std::printf("%s seed %llu dense return: %s %.4f (%s), %s %.4f (%s)\n", c.file,
+                static_cast<unsigned long long>(c.seed), better_name, b, b_success ? "success" : "failure",
+                worse_name, w, w_success ? "success" : "failure");
+  }
+  const std::string where = std::string(c.file) + " seed " + std::to_string(c.seed) + ": " + better_name + " " +
+                            std::to_string(b) + ", " + worse_name + " " + std::to_string(w);
+  EXPECT_FALSE(w_success && !b_success) << worse_name << " succeeds where " << better_name << " fails in " << where;
+  if (b_success && !w_success) {
+    EXPECT_GT(b, w) << where;
+  } else {
+    EXPECT_GE(b, w - kShapingSlack) << where;
+  }
+}
+
+void expect_dense_ladder(const RewardedEpisode& oracle, const RewardedEpisode& reactive,
+                         const RewardedEpisode& blind, const TaskCase& c) {
+  expect_dense_order(oracle, "oracle", reactive, "reactive", c);
+  expect_dense_order(reactive, "reactive", blind, "blind", c);
+}
 
 class Ladder : public ::testing::TestWithParam<TaskCase> {};
 
 TEST_P(Ladder, NoWorseRobotBeatsTheOracle) {
-  const ScoredEpisode oracle = run_task(GetParam().file, GetParam().seed, "oracle");
-  ASSERT_TRUE(oracle.metrics.success) << "the oracle must solve the episode the ladder compares on";
-  const std::string& task = oracle.log.task;
+  const RewardedEpisode oracle = run_task_rewarded(GetParam().file, GetParam().seed, "oracle");
+  ASSERT_TRUE(oracle.scored.metrics.success) << "the oracle must solve the episode the ladder compares on";
+  const std::string& task = oracle.scored.log.task;
+  std::vector<RewardedEpisode> below;
   for (const char* policy : {"noop", "random", "blind", "reactive"}) {
-    const ScoredEpisode worse = run_task(GetParam().file, GetParam().seed, policy);
+    below.push_back(run_task_rewarded(GetParam().file, GetParam().seed, policy));
+    const EpisodeMetrics& worse = below.back().scored.metrics;
     for (const Metric& metric : metrics()) {
-      const std::optional<double> o = metric.value(oracle.metrics);
-      const std::optional<double> w = metric.value(worse.metrics);
+      const std::optional<double> o = metric.value(oracle.scored.metrics);
+      const std::optional<double> w = metric.value(worse);
       if (std::getenv("HRIB_LADDER_PRINT")) {
         std::printf("%s %s %s oracle %s %s\n", task.c_str(), policy, metric.name,
                     o ? std::to_string(*o).c_str() : "-", w ? std::to_string(*w).c_str() : "-");
@@ -142,23 +212,21 @@ TEST_P(Ladder, NoWorseRobotBeatsTheOracle) {
                                     << " against " << *o;
     }
   }
+  expect_dense_ladder(oracle, below[3], below[2], GetParam());
 }
 
-INSTANTIATE_TEST_SUITE_P(Tasks, Ladder,
-                         ::testing::Values(TaskCase{"tasks/I1_point_pick.yaml", 0},
-                                           TaskCase{"tasks/I2_gesture_delivery.yaml", 0},
-                                           TaskCase{"tasks/I3_demo_imitate.yaml", 0},
-                                           TaskCase{"tasks/I4_stop_go.yaml", 1},
-                                           TaskCase{"tasks/I5_contradiction.yaml", 0},
-                                           TaskCase{"tasks/I5_contradiction.yaml", 1},
-                                           TaskCase{"tasks/C1_handover_h2r.yaml", 0},
-                                           TaskCase{"tasks/C2_handover_r2h.yaml", 1},
-                                           TaskCase{"tasks/C3_box_retrieval.yaml", 0},
-                                           TaskCase{"tasks/C4_co_lift.yaml", 0},
-                                           TaskCase{"tasks/X1_intrusion_yield.yaml", 0},
-                                           TaskCase{"tasks/X2_object_moved.yaml", 0},
-                                           TaskCase{"tasks/X3_someone_else_places.yaml", 0},
-                                           TaskCase{"tasks/X4_blocked_target.yaml", 0}));
+INSTANTIATE_TEST_SUITE_P(Tasks, Ladder, ::testing::ValuesIn(kLadderCases));
+
+class DenseLadder : public ::testing::TestWithParam<TaskCase> {};
+
+TEST_P(DenseLadder, OracleAboveReactiveAboveBlind) {
+  const RewardedEpisode oracle = run_task_rewarded(GetParam().file, GetParam().seed, "oracle");
+  ASSERT_TRUE(oracle.scored.metrics.success) << "the oracle solves seeds 0-4 of every task";
+  expect_dense_ladder(oracle, run_task_rewarded(GetParam().file, GetParam().seed, "reactive"),
+                      run_task_rewarded(GetParam().file, GetParam().seed, "blind"), GetParam());
+}
+
+INSTANTIATE_TEST_SUITE_P(Tasks, DenseLadder, ::testing::ValuesIn(other_seeds_0_to_4()));
 
 }  // namespace
 }  // namespace hribench::eval

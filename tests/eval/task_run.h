@@ -6,6 +6,9 @@
 #include <memory>
 #include <string>
 
+#include "eval/episode.h"
+#include "eval/reward.h"
+#include "eval/runner.h"
 #include "eval/task_episode.h"
 #include "policy/registry.h"
 #include "script/check.h"
@@ -13,14 +16,40 @@
 
 namespace hribench::eval::testing {
 
+// `task_file` sampled at `seed`, with `policy_ref`, as `hribench eval` sets it up (the script's
+// horizon).
+struct TaskEpisode {
+  script::EpisodeSpec spec;
+  std::unique_ptr<policy::Policy> policy;
+  EpisodeSetup setup;
+  RunOptions options;
+};
+inline TaskEpisode task_episode(const std::string& task_file, uint64_t seed, const std::string& policy_ref) {
+  TaskEpisode t{script::sample(script::load_scenario(task_file), seed), policy::make_policy(policy_ref), {}, {}};
+  t.setup = {t.spec.task, t.spec.role, "", t.spec.seed, t.spec.instruction, policy_ref};
+  t.options.horizon = 0;  // the script's
+  return t;
+}
+
 // Samples `task_file` at `seed`, runs `policy_ref` on it and scores it.
 inline ScoredEpisode run_task(const std::string& task_file, uint64_t seed, const std::string& policy_ref) {
-  const script::EpisodeSpec spec = script::sample(script::load_scenario(task_file), seed);
-  std::unique_ptr<policy::Policy> policy = policy::make_policy(policy_ref);
-  const EpisodeSetup setup{spec.task, spec.role, "", spec.seed, spec.instruction, policy_ref};
-  RunOptions options;
-  options.horizon = 0;  // the script's
-  return run_task_episode(spec, *policy, setup, options);
+  TaskEpisode t = task_episode(task_file, seed, policy_ref);
+  return run_task_episode(t.spec, *t.policy, t.setup, t.options);
+}
+
+// run_task with the episode's dense return (eval/reward.h, the script's weights) beside it.
+struct RewardedEpisode {
+  ScoredEpisode scored;
+  RewardTerms dense_return;
+};
+inline RewardedEpisode run_task_rewarded(const std::string& task_file, uint64_t seed,
+                                         const std::string& policy_ref) {
+  TaskEpisode t = task_episode(task_file, seed, policy_ref);
+  Episode episode(t.spec, t.policy->spec(), t.setup, t.options);
+  run_episode(episode, *t.policy);
+  return {{episode.log(), episode.metrics()},
+          dense_return(*episode.contract(), episode.log(), t.spec.reward.value_or(script::RewardWeights{}),
+                       t.options.constants)};
 }
 
 }  // namespace hribench::eval::testing

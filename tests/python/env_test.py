@@ -118,3 +118,25 @@ def test_replaying_the_oracle_from_python_reproduces_the_cpp_log(tmp_path, run_c
     assert np.linalg.norm(np.diff(log["tcp_pose"][:, :3], axis=0), axis=1).sum() > 0.1  # it moved
     assert env.log_bytes() == hribench._hribench.log_bytes_of_file(str(log_file))
     np.testing.assert_array_equal(env.log()["joint_pos"], log["joint_pos"])
+
+
+def test_the_dense_reward_pays_the_success_bonus_at_the_end_of_a_successful_episode(tmp_path, run_cli):
+    # The oracle's whole I1 episode, replayed with reward="dense" (docs/python.md "Rewards").
+    result = run_cli("eval", "--tasks", "I1", "--policy", "oracle", "--episodes", "1", "--seed", "0",
+                     "--save-logs", "--out", tmp_path / "run")
+    assert result.returncode == 0, result.stderr
+    (log_file,) = (tmp_path / "run" / "logs").iterdir()
+    log = hribench.load_log(log_file)
+    env = hribench.make("I1", seed=0, action_space=log["action_space"], policy_name="oracle",
+                        reward="dense")
+    env.reset()
+    terms = []
+    for k in range(1, len(log["time"])):
+        obs, reward, terminated, truncated, info = env.step(log["actions"][k])
+        terms.append(info["reward_terms"])
+        assert reward == info["reward_terms"]["total"]
+    assert terminated and info["metrics"]["success"]
+    assert [t["success"] for t in terms[:-1]] == [0.0] * (len(terms) - 1)
+    assert terms[-1]["success"] == 10.0
+    assert all(t["premature_motion"] == 0.0 for t in terms)  # the oracle waits for the point
+    assert sum(t["progress"] for t in terms) > 0
