@@ -1,6 +1,6 @@
-// Nothing lost, nothing duplicated (docs/hardening.md "Crash-safe outputs"): `eval` and
-// `generate` are killed with SIGKILL at spread moments and resumed; the final outputs equal an
-// uninterrupted run's byte for byte. (`collect` does not exist yet.)
+// Nothing lost, nothing duplicated (docs/hardening.md "Crash-safe outputs"): `eval`,
+// `generate` and `collect` are killed with SIGKILL at spread moments and resumed; the final
+// outputs equal an uninterrupted run's byte for byte.
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -9,8 +9,9 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <functional>
 #include <filesystem>
+#include <functional>
+#include <map>
 #include <string>
 #include <thread>
 #include <vector>
@@ -98,6 +99,43 @@ TEST(KillAndResume, GenerateEndsWithTheUninterruptedPool) {
     ASSERT_EQ(resumed.exit_code, 0) << "killed after " << ms << " ms: " << resumed.output;
     for (const char* file : {"manifest.json", "report.json", "report.md"}) {
       EXPECT_EQ(read_text(fs::path(dir) / file), read_text(reference / file)) << file << ", killed after " << ms << " ms";
+    }
+  }
+  EXPECT_GE(killed, 3) << "most runs must really be killed (run took " << run_ms << " ms)";
+  fs::remove_all(root);
+}
+
+// Every file under `dir` by its path relative to it, with its bytes.
+std::map<std::string, std::string> files_under(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    if (entry.is_regular_file()) files[fs::relative(entry.path(), dir).string()] = read_text(entry.path());
+  }
+  return files;
+}
+
+TEST(KillAndResume, CollectEndsWithTheUninterruptedDataset) {
+  const std::string root = ::hribench::testing::temp_dir("kill", "collect");
+  const std::string run = "collect --tasks C2,X3 --episodes 1 --size 16 --cameras wrist --format lerobot "
+                          "--threads 2 --out ";
+  int run_ms = 0;
+  run_ms = elapsed_ms([&] { ASSERT_EQ(run_hribench(run + root + "/reference").exit_code, 0); });
+  const std::map<std::string, std::string> reference = files_under(fs::path(root) / "reference");
+  ASSERT_GT(reference.size(), 10u);  // meta, parquet, mp4 and log files
+  int killed = 0;
+  for (const int ms : moments(run_ms)) {
+    const std::string dir = root + "/killed_" + std::to_string(ms);
+    killed += run_and_kill_after(run + dir, ms);
+    const auto resumed = run_hribench(run + dir + (fs::exists(dir) ? " --resume" : ""));
+    ASSERT_EQ(resumed.exit_code, 0) << "killed after " << ms << " ms: " << resumed.output;
+    const std::map<std::string, std::string> files = files_under(dir);
+    for (const auto& [path, bytes] : reference) {
+      const auto found = files.find(path);
+      ASSERT_NE(found, files.end()) << path << " missing, killed after " << ms << " ms";
+      EXPECT_TRUE(found->second == bytes) << path << " differs, killed after " << ms << " ms";
+    }
+    for (const auto& [path, bytes] : files) {
+      EXPECT_TRUE(reference.count(path)) << path << " is extra, killed after " << ms << " ms";
     }
   }
   EXPECT_GE(killed, 3) << "most runs must really be killed (run took " << run_ms << " ms)";
