@@ -62,47 +62,47 @@ int elapsed_ms(const std::function<void()>& f) {
       std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start).count());
 }
 
-TEST(KillAndResume, EvalEndsWithTheUninterruptedRunsResults) {
-  const std::string root = ::hribench::testing::temp_dir("kill", "eval");
-  const std::string run = "eval --tasks I4 --policy noop,reactive --episodes 2 --seed 5 --horizon 2 --threads 2 --out ";
-  int run_ms = 0;
-  run_ms = elapsed_ms([&] { ASSERT_EQ(run_hribench(run + root + "/reference").exit_code, 0); });
-  const std::string reference = read_text(fs::path(root) / "reference" / "results.json");
+// Runs `run ROOT/reference` whole, then `run DIR` killed at each of moments() of that run and
+// resumed (`--resume` where the killed run left DIR), and calls check(DIR, reference, what) on
+// each. Most runs must really be killed.
+void kill_and_resume(const std::string& run, const std::string& root,
+                     const std::function<void(const fs::path&, const fs::path&, const std::string&)>& check) {
+  const fs::path reference = fs::path(root) / "reference";
+  const int run_ms = elapsed_ms([&] { ASSERT_EQ(run_hribench(run + reference.string()).exit_code, 0); });
   int killed = 0;
   for (const int ms : moments(run_ms)) {
     const std::string dir = root + "/killed_" + std::to_string(ms);
+    const std::string what = "killed after " + std::to_string(ms) + " ms";
     killed += run_and_kill_after(run + dir, ms);
-    const auto resumed = run_hribench(run + dir + " --resume");
-    ASSERT_EQ(resumed.exit_code, 0) << "killed after " << ms << " ms: " << resumed.output;
-    EXPECT_EQ(read_text(fs::path(dir) / "results.json"), reference) << "killed after " << ms << " ms";
-    EXPECT_EQ(count_lines(read_text(fs::path(dir) / "episodes.jsonl")), 4) << "killed after " << ms << " ms";
-    for (const auto& entry : fs::directory_iterator(dir)) {
-      EXPECT_NE(entry.path().extension(), ".tmp") << entry.path();
-    }
+    const auto resumed = run_hribench(run + dir + (fs::exists(dir) ? " --resume" : ""));
+    ASSERT_EQ(resumed.exit_code, 0) << what << ": " << resumed.output;
+    check(dir, reference, what);
   }
   EXPECT_GE(killed, 3) << "most runs must really be killed (run took " << run_ms << " ms)";
   fs::remove_all(root);
 }
 
+TEST(KillAndResume, EvalEndsWithTheUninterruptedRunsResults) {
+  kill_and_resume("eval --tasks I4 --policy noop,reactive --episodes 2 --seed 5 --horizon 2 --threads 2 --out ",
+                  ::hribench::testing::temp_dir("kill", "eval"),
+                  [](const fs::path& dir, const fs::path& reference, const std::string& what) {
+                    EXPECT_EQ(read_text(dir / "results.json"), read_text(reference / "results.json")) << what;
+                    EXPECT_EQ(count_lines(read_text(dir / "episodes.jsonl")), 4) << what;
+                    for (const auto& entry : fs::directory_iterator(dir)) {
+                      EXPECT_NE(entry.path().extension(), ".tmp") << entry.path();
+                    }
+                  });
+}
+
 TEST(KillAndResume, GenerateEndsWithTheUninterruptedPool) {
-  const std::string root = ::hribench::testing::temp_dir("kill", "generate");
-  const std::string run = "generate --tasks I1,I4 --candidates 6 --adapt 2 --eval 1 --test 1 --seed 3 "
-                          "--executable-by none --threads 2 --quiet --out ";
-  int run_ms = 0;
-  run_ms = elapsed_ms([&] { ASSERT_EQ(run_hribench(run + root + "/reference").exit_code, 0); });
-  const fs::path reference = fs::path(root) / "reference";
-  int killed = 0;
-  for (const int ms : moments(run_ms)) {
-    const std::string dir = root + "/killed_" + std::to_string(ms);
-    killed += run_and_kill_after(run + dir, ms);
-    const auto resumed = run_hribench(run + dir + (fs::exists(dir) ? " --resume" : ""));
-    ASSERT_EQ(resumed.exit_code, 0) << "killed after " << ms << " ms: " << resumed.output;
-    for (const char* file : {"manifest.json", "report.json", "report.md"}) {
-      EXPECT_EQ(read_text(fs::path(dir) / file), read_text(reference / file)) << file << ", killed after " << ms << " ms";
-    }
-  }
-  EXPECT_GE(killed, 3) << "most runs must really be killed (run took " << run_ms << " ms)";
-  fs::remove_all(root);
+  kill_and_resume("generate --tasks I1,I4 --candidates 6 --adapt 2 --eval 1 --test 1 --seed 3 "
+                  "--executable-by none --threads 2 --quiet --out ",
+                  ::hribench::testing::temp_dir("kill", "generate"),
+                  [](const fs::path& dir, const fs::path& reference, const std::string& what) {
+                    for (const char* file : {"manifest.json", "report.json", "report.md"}) {
+                      EXPECT_EQ(read_text(dir / file), read_text(reference / file)) << file << ", " << what;
+                    }
+                  });
 }
 
 // Every file under `dir` by its path relative to it, with its bytes.
@@ -115,31 +115,21 @@ std::map<std::string, std::string> files_under(const fs::path& dir) {
 }
 
 TEST(KillAndResume, CollectEndsWithTheUninterruptedDataset) {
-  const std::string root = ::hribench::testing::temp_dir("kill", "collect");
-  const std::string run = "collect --tasks C2,X3 --episodes 1 --size 16 --cameras wrist --format lerobot "
-                          "--threads 2 --out ";
-  int run_ms = 0;
-  run_ms = elapsed_ms([&] { ASSERT_EQ(run_hribench(run + root + "/reference").exit_code, 0); });
-  const std::map<std::string, std::string> reference = files_under(fs::path(root) / "reference");
-  ASSERT_GT(reference.size(), 10u);  // meta, parquet, mp4 and log files
-  int killed = 0;
-  for (const int ms : moments(run_ms)) {
-    const std::string dir = root + "/killed_" + std::to_string(ms);
-    killed += run_and_kill_after(run + dir, ms);
-    const auto resumed = run_hribench(run + dir + (fs::exists(dir) ? " --resume" : ""));
-    ASSERT_EQ(resumed.exit_code, 0) << "killed after " << ms << " ms: " << resumed.output;
-    const std::map<std::string, std::string> files = files_under(dir);
-    for (const auto& [path, bytes] : reference) {
-      const auto found = files.find(path);
-      ASSERT_NE(found, files.end()) << path << " missing, killed after " << ms << " ms";
-      EXPECT_TRUE(found->second == bytes) << path << " differs, killed after " << ms << " ms";
-    }
-    for (const auto& [path, bytes] : files) {
-      EXPECT_TRUE(reference.count(path)) << path << " is extra, killed after " << ms << " ms";
-    }
-  }
-  EXPECT_GE(killed, 3) << "most runs must really be killed (run took " << run_ms << " ms)";
-  fs::remove_all(root);
+  kill_and_resume("collect --tasks C2,X3 --episodes 1 --size 16 --cameras wrist --format lerobot --threads 2 --out ",
+                  ::hribench::testing::temp_dir("kill", "collect"),
+                  [](const fs::path& dir, const fs::path& reference, const std::string& what) {
+                    const std::map<std::string, std::string> expected = files_under(reference);
+                    ASSERT_GT(expected.size(), 10u);  // meta, parquet, mp4 and log files
+                    const std::map<std::string, std::string> files = files_under(dir);
+                    for (const auto& [path, bytes] : expected) {
+                      const auto found = files.find(path);
+                      ASSERT_NE(found, files.end()) << path << " missing, " << what;
+                      EXPECT_TRUE(found->second == bytes) << path << " differs, " << what;
+                    }
+                    for (const auto& [path, bytes] : files) {
+                      EXPECT_TRUE(expected.count(path)) << path << " is extra, " << what;
+                    }
+                  });
 }
 
 }  // namespace
