@@ -1,12 +1,14 @@
 // `hribench generate --tasks LIST|all --candidates N --seed S --out DIR [--robot NAME] [--threads N]
-// [--executable-by POLICY|none] [--adapt N --eval N --test N] [--resume]`: the generation
-// pipeline of gen/generate.h. Writes the pool folder (gen/pool.h) and prints the report table.
+// [--executable-by POLICY|none] [--adapt N --eval N --test N] [--resume] [--shard i/N]`: the
+// generation pipeline of gen/generate.h. Writes the pool folder (gen/pool.h) and prints the
+// report table; a shard judges its share of the candidates, and `hribench merge` makes the pool.
 
 #include <cstdio>
 #include <memory>
 #include <string>
 
 #include "cli/command.h"
+#include "eval/shard.h"
 #include "gen/generate.h"
 #include "gen/pool.h"
 #include "model/robot.h"
@@ -25,6 +27,7 @@ struct GenerateArgs {
   std::string out;
   bool resume = false;
   bool quiet = false;
+  std::string shard;  // "i/N", or empty: the whole generation
 };
 
 int run_generate(const GenerateArgs& a) {
@@ -39,7 +42,14 @@ int run_generate(const GenerateArgs& a) {
   o.out = a.out;
   o.resume = a.resume;
   o.progress = !a.quiet;
+  if (!a.shard.empty()) o.shard = eval::parse_shard(a.shard, "--shard");
   const gen::GenerationReport report = gen::generate(o);
+  if (o.shard) {
+    std::printf("hribench generate: shard %s of the candidates judged in %s; combine the %d folders with "
+                "hribench merge OUT SHARD_DIR...\n",
+                eval::to_string(*o.shard).c_str(), a.out.c_str(), o.shard->count);
+    return 0;
+  }
   std::fputs(gen::report_markdown(report).c_str(), stdout);
   return 0;
 }
@@ -66,6 +76,9 @@ HRIB_REGISTER_COMMAND(
       app.add_option("--out", a->out, "Pool folder")->required();
       app.add_flag("--resume", a->resume, "Continue an interrupted generation in --out (same options)");
       app.add_flag("--quiet", a->quiet, "No progress line");
+      app.add_option("--shard", a->shard,
+                     "Judge only shard i of N (i/N, 0 <= i < N: every N-th candidate); combine the N "
+                     "folders with hribench merge (docs/scale.md)");
       app.footer([] { return "Tasks: " + gen::task_list_text() + "."; });
       return [a] { return run_generate(*a); };
     });

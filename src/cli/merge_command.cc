@@ -1,8 +1,9 @@
 // `hribench merge OUT SHARD_DIR...`: combines the folders of a sharded eval (`eval --shard i/N`,
 // one per shard, each finished) into OUT, exactly as one `eval` without --shard would have
 // written it: options.json without the shard, episodes.jsonl and results.json in job order,
-// summary.md and summary.csv, and the shards' logs/ (eval/shard.h, docs/scale.md). Shards that
-// disagree (options, code, constants, a missing or repeated shard, an unfinished one) are
+// summary.md and summary.csv, and the shards' logs/ (eval/shard.h, docs/scale.md). The folders
+// of a sharded `generate` become the pool one `generate` writes (gen::merge_generation). Shards
+// that disagree (options, code, constants, a missing or repeated shard, an unfinished one) are
 // refused in one line; OUT must be new.
 
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "core/json.h"
 #include "eval/report.h"
 #include "eval/shard.h"
+#include "gen/generate.h"
 
 namespace hribench::cli {
 namespace {
@@ -24,6 +26,12 @@ namespace {
 namespace fs = std::filesystem;
 
 int run_merge(const std::string& out, const std::vector<std::string>& dirs) {
+  if (gen::holds_generation(dirs.front())) {
+    const gen::GenerationReport report = gen::merge_generation(out, dirs);
+    std::fprintf(stderr, "hribench merge: %zu generation shards -> the pool %s\n", dirs.size(), out.c_str());
+    std::fputs(gen::report_markdown(report).c_str(), stdout);
+    return 0;
+  }
   std::error_code ec;
   if (fs::exists(out, ec) && (!fs::is_directory(out, ec) || !fs::is_empty(out, ec))) {
     throw core::InputError("OUT", "a new or empty folder for the merged run", "'" + out + "'");
@@ -40,7 +48,7 @@ int run_merge(const std::string& out, const std::vector<std::string>& dirs) {
   const eval::RunResults merged = eval::merge_shards(shards);
 
   fs::create_directories(out);
-  core::write_file_atomically(fs::path(out) / "options.json", eval::merged_options(shards.front()).dump(2) + "\n");
+  core::write_file_atomically(fs::path(out) / "options.json", eval::merged_options(shards.front().options).dump(2) + "\n");
   std::string lines;
   for (const eval::EpisodeResult& r : merged.episodes) lines += eval::episode_to_json(r).dump() + "\n";
   core::write_file_atomically(fs::path(out) / "episodes.jsonl", lines);
@@ -59,7 +67,7 @@ int run_merge(const std::string& out, const std::vector<std::string>& dirs) {
   return 0;
 }
 
-HRIB_REGISTER_COMMAND("merge", "Combine the folders of a sharded eval (--shard i/N) into one run",
+HRIB_REGISTER_COMMAND("merge", "Combine the folders of a sharded eval or generate (--shard i/N) into one run or pool",
                       [](CLI::App& app) -> std::function<int()> {
                         auto out = std::make_shared<std::string>();
                         auto dirs = std::make_shared<std::vector<std::string>>();

@@ -28,6 +28,22 @@ struct Shard {
 Shard parse_shard(std::string_view text, std::string_view where);
 std::string to_string(const Shard& shard);  // "i/N"
 
+// One shard's folder (for messages) and options (options.json).
+struct ShardOptions {
+  std::string dir;
+  nlohmann::json options;
+};
+
+// Checks the folders of a sharded job (eval or generate) and returns their positions in shard
+// order (element i: the folder of shard i/N). Throws core::InputError naming the folder and
+// what differs when a folder is not a shard (no "shard" and "shard_of_jobs"), the shards do
+// not cover 0..N-1 once each, or their options (other than the shard) or job counts differ.
+std::vector<size_t> shard_order(const std::vector<ShardOptions>& shards);
+// How many of `jobs` jobs shard i/N holds (the jobs i, i + N, i + 2N, ...).
+size_t shard_share(size_t jobs, const Shard& shard);
+// The options of the whole job: a shard's options without "shard" and "shard_of_jobs".
+nlohmann::json merged_options(const nlohmann::json& shard_options);
+
 // One finished shard run: its folder (for messages), options.json and results.
 struct ShardRun {
   std::string dir;
@@ -41,7 +57,5 @@ struct ShardRun {
 // renderer or metric constants differ, or a shard holds another number of episodes than its
 // share.
 RunResults merge_shards(const std::vector<ShardRun>& shards);
-// The options of the merged run: a shard's options without "shard" and "shard_of_jobs".
-nlohmann::json merged_options(const ShardRun& shard);
 
 }  // namespace hribench::eval

@@ -16,6 +16,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/paths.h"
+#include "core/version.h"
 #include "policy/registry.h"
 #include "script/check.h"
 #include "script/sample.h"
@@ -78,7 +79,19 @@ std::vector<CandidateRecord> load_candidates(const fs::path& path) {
   return records;
 }
 
+// What options.json holds: the generator options, and for a shard the shard, the job count
+// and the code that judges (a merge refuses shards judged by other code).
+core::Json options_json(const GenerateOptions& o, const core::Json& generator, size_t jobs) {
+  if (!o.shard) return generator;
+  core::Json options = generator;
+  options["shard"] = eval::to_string(*o.shard);
+  options["shard_of_jobs"] = jobs;
+  options["code"] = fmt::format("HRIBench {} (git {})", core::version(), core::git_hash());
+  return options;
+}
+
 // Refuses an OUT holding another pool; returns the candidates judged before (resume).
+// `generator`: what options.json must hold (options_json).
 std::vector<CandidateRecord> prepare_out(const GenerateOptions& o, const core::Json& generator) {
   const fs::path dir = o.out;
   const fs::path options_file = dir / "options.json";
@@ -283,7 +296,8 @@ GenerationReport generate(const GenerateOptions& o) {
     }
   }
   const core::Json generator = generator_json(o, names);
-  const std::vector<CandidateRecord> finished = prepare_out(o, generator);
+  const std::vector<CandidateRecord> finished =
+      prepare_out(o, options_json(o, generator, names.size() * o.candidates));
 
   // Judge every candidate not judged before; append each as it finishes.
   std::map<std::string, CandidateRecord> by_key;
@@ -291,6 +305,7 @@ GenerationReport generate(const GenerateOptions& o) {
   std::vector<std::pair<size_t, size_t>> todo;  // (task, candidate)
   for (size_t t = 0; t < names.size(); ++t) {
     for (size_t i = 0; i < o.candidates; ++i) {
+      if (o.shard && !o.shard->owns(t * o.candidates + i)) continue;
       if (by_key.count(key(names[t], i)) == 0) todo.emplace_back(t, i);
     }
   }
@@ -299,7 +314,7 @@ GenerationReport generate(const GenerateOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   size_t done = 0, validated = 0;
   for (const CandidateRecord& r : finished) validated += r.failed ? 0 : 1;
-  const size_t all = names.size() * o.candidates;
+  const size_t all = o.shard ? eval::shard_share(names.size() * o.candidates, *o.shard) : names.size() * o.candidates;
   run_parallel(
       todo.size(), o.threads,
       [&](size_t job) {
@@ -325,6 +340,7 @@ GenerationReport generate(const GenerateOptions& o) {
   // The report, in (task, candidate) order.
   GenerationReport report;
   report.generator = generator;
+  if (o.shard) return report;  // a shard's candidates are split with the others' (merge_generation)
   report.total.task = "all";
   std::vector<std::vector<const CandidateRecord*>> valid(names.size());
   for (size_t t = 0; t < names.size(); ++t) {
@@ -385,6 +401,84 @@ GenerationReport generate(const GenerateOptions& o) {
   core::write_file_atomically(fs::path(o.out) / "report.md", report_markdown(report));
   core::write_file_atomically(fs::path(o.out) / "manifest.json", core::pretty_json(to_json(manifest)) + "\n");
   return report;
+}
+
+bool holds_generation(const std::string& dir) { return fs::is_regular_file(fs::path(dir) / "candidates.jsonl"); }
+
+GenerationReport merge_generation(const std::string& out, const std::vector<std::string>& dirs) {
+  std::error_code ec;
+  if (fs::exists(out, ec) && (!fs::is_directory(out, ec) || !fs::is_empty(out, ec))) {
+    throw core::InputError("OUT", "a new or empty folder for the merged pool", "'" + out + "'");
+  }
+  std::vector<eval::ShardOptions> folders;
+  for (const std::string& dir : dirs) {
+    const fs::path options = fs::path(dir) / "options.json";
+    if (!holds_generation(dir) || !fs::is_regular_file(options)) {
+      throw core::InputError::Message(dir, "holds no generation (options.json and candidates.jsonl)");
+    }
+    folders.push_back({dir, core::read_json_file(options.string())});
+  }
+  const std::vector<size_t> order = eval::shard_order(folders);
+  core::Json generator = eval::merged_options(folders[order.front()].options);
+  generator.erase("code");
+
+  // The options one generate would have run with.
+  GenerateOptions o;
+  const std::string where = folders[order.front()].dir + "/options.json";
+  try {
+    for (const core::Json& task : generator.at("tasks")) o.scripts.push_back(task.at("script").get<std::string>());
+    o.candidates = generator.at("candidates_per_task").get<size_t>();
+    o.seed = generator.at("seed").get<uint64_t>();
+    o.robot = generator.at("robot").get<std::string>();
+    o.splits = {generator.at("splits").at("adapt").get<size_t>(), generator.at("splits").at("eval").get<size_t>(),
+                generator.at("splits").at("test").get<size_t>()};
+    o.filters.executable_by = generator.at("executable_by").get<std::string>();
+  } catch (const core::Json::exception&) {
+    throw core::InputError(where, "the generator options of hribench generate", generator.dump());
+  }
+  std::vector<std::string> names;
+  for (const core::Json& task : generator.at("tasks")) names.push_back(task.value("task", ""));
+  if (generator_json(o, names) != generator) {
+    throw core::InputError(where, fmt::format("a generation of pool version {}", kPoolVersion),
+                           generator.value("pool_version", core::Json()).dump());
+  }
+
+  // Each shard holds exactly its candidates.
+  const size_t jobs = names.size() * o.candidates;
+  std::map<std::string, CandidateRecord> by_key;
+  for (size_t i = 0; i < order.size(); ++i) {
+    const std::string& dir = folders[order[i]].dir;
+    const eval::Shard shard{static_cast<int>(i), static_cast<int>(order.size())};
+    size_t held = 0;
+    for (const CandidateRecord& r : load_candidates(fs::path(dir) / "candidates.jsonl")) {
+      const auto task = std::find(names.begin(), names.end(), r.task);
+      const size_t job = static_cast<size_t>(task - names.begin()) * o.candidates + r.index;
+      if (task == names.end() || r.index >= o.candidates || !shard.owns(job) ||
+          !by_key.emplace(key(r.task, r.index), r).second) {
+        throw core::InputError::Message(dir, fmt::format("holds candidate {} of {}, which is not shard {}'s (or is there twice)",
+                                                         r.index, r.task, eval::to_string(shard)));
+      }
+      ++held;
+    }
+    if (held != eval::shard_share(jobs, shard)) {
+      throw core::InputError::Message(
+          dir, fmt::format("holds {} of its {} candidates; finish it with generate --shard {} --resume", held,
+                           eval::shard_share(jobs, shard), eval::to_string(shard)));
+    }
+  }
+
+  // OUT as an interrupted generation with every candidate judged; generate splits it.
+  fs::create_directories(out);
+  core::write_file_atomically(fs::path(out) / "options.json", core::pretty_json(generator) + "\n");
+  std::string lines;
+  for (const std::string& task : names) {
+    for (size_t i = 0; i < o.candidates; ++i) lines += core::canonical_json(to_json(by_key.at(key(task, i)))) + "\n";
+  }
+  core::write_file_atomically(fs::path(out) / "candidates.jsonl", lines);
+  o.out = out;
+  o.resume = true;
+  o.progress = false;
+  return generate(o);
 }
 
 }  // namespace hribench::gen

@@ -8,6 +8,11 @@
 //
 // Resumable: each judged candidate is appended to OUT/candidates.jsonl as it finishes; with
 // `resume` a folder made with the same options continues without judging those again.
+//
+// Sharded (docs/scale.md): with `shard` i/N only the candidates j of the full list (task, then
+// candidate index) with j mod N = i are judged, and the folder keeps options.json (with the
+// shard, the job count and the code that judged) and candidates.jsonl, no split and no
+// manifest; merge_generation combines the N folders into the pool one process writes.
 
 #include <array>
 #include <cstdint>
@@ -17,6 +22,7 @@
 #include <vector>
 
 #include "core/json.h"
+#include "eval/shard.h"
 #include "gen/filters.h"
 #include "gen/pool.h"
 #include "model/robot.h"
@@ -35,6 +41,7 @@ struct GenerateOptions {
   std::string out;                   // the pool folder
   bool resume = false;
   bool progress = true;              // a progress line on stderr
+  std::optional<eval::Shard> shard;  // judge only this shard's candidates (see above)
 };
 
 // One judged candidate.
@@ -84,6 +91,18 @@ CandidateRecord judge_candidate(const script::Scenario& scenario, const std::str
 // `resume`). After judging, a task with fewer validated episodes than the splits need throws
 // core::InputError naming each such task and how many are missing; OUT then keeps
 // options.json, candidates.jsonl and report.md, and no manifest.
+// A shard (options.shard) judges its candidates and returns a report without task rows.
 GenerationReport generate(const GenerateOptions& options);
+
+// Whether `dir` holds a generation (its candidates.jsonl), finished or not.
+bool holds_generation(const std::string& dir);
+
+// Combines the folders of a sharded generation (`generate --shard i/N`, one per shard, each
+// finished) into `out`, a new or empty folder: the pool one `generate` without --shard writes
+// (manifest, specs and reports byte for byte; candidates.jsonl in (task, candidate) order).
+// Throws core::InputError naming the folder when a folder is not a generation shard, the
+// shards do not cover 0..N-1 once each, their options or code differ (eval::shard_order), or
+// a shard does not hold exactly its candidates.
+GenerationReport merge_generation(const std::string& out, const std::vector<std::string>& dirs);
 
 }  // namespace hribench::gen
