@@ -1,14 +1,15 @@
 // Replies of remote policy servers (docs/remote-policies.md): the bytes as msgpack (openpi's
 // reply and GR00T's), every array in them read by its dtype, the reply's arrays decoded into
 // actions by the hribench and libero presets and read as GR00T's action reply; and the bytes as
-// the NPY file inside a GR00T array. Bad bytes must be a WireError (or an InputError), nothing
-// else.
+// the NPY file inside a GR00T array. Bad bytes must be a WireError (or an InputError; a
+// preset's PolicyError for arrays of the wrong shapes), nothing else.
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
 #include <variant>
 
 #include "core/errors.h"
+#include "policy/policy.h"
 #include "remote/gr00t.h"
 #include "remote/preset.h"
 #include "remote/wire.h"
@@ -40,6 +41,7 @@ void decode_with_presets(const remote::Value& reply) {
     try {
       remote::make_preset(options, "fuzz")->decode(groups);
     } catch (const remote::WireError&) {
+    } catch (const hribench::policy::PolicyError&) {  // the reply's shapes are not the preset's
     }
   }
 }

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <ranges>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -67,8 +66,10 @@ std::vector<std::vector<double>> concatenated(const ActionGroups& groups,
   for (const auto& [name, w] : layout) {
     const NdArray* a = group(name);
     if (a == nullptr) {
+      std::vector<std::string> names;  // clang-14 with libstdc++ 12 cannot compile views::keys (docs/hardening.md)
+      for (const auto& entry : layout) names.push_back(entry.first);
       bad_reply(fmt::format("no 'actions' in the reply (got: {}; or the groups {})", present.empty() ? "none" : present,
-                            fmt::join(layout | std::views::keys, ", ")));
+                            fmt::join(names, ", ")));
     }
     const std::vector<std::vector<double>> part = rows(*a, name);
     if (out.empty()) out.resize(part.size());

@@ -45,7 +45,8 @@ class Preset {
   // An episode starts; the next encode() is its first query.
   virtual void begin(const policy::EpisodeInfo& info) = 0;
   virtual ObservationGroups encode(const policy::Observation& observation) = 0;
-  // The chunk for `groups` (the reply to the last encode()). The runner validates it.
+  // The chunk for `groups` (the reply to the last encode()). The runner validates it. A reply
+  // without the preset's action groups, or of other shapes: policy::PolicyError (wrong_shape).
   virtual policy::ActionChunk decode(const ActionGroups& groups) = 0;
   // The action groups and widths the preset reads, in order (the GR00T modality names).
   virtual std::vector<std::pair<std::string, int>> action_layout() const = 0;

@@ -1,5 +1,6 @@
 #include "remote/wire.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -115,6 +116,9 @@ const msgpack::object* member(const msgpack::object& map, std::string_view key) 
   return nullptr;
 }
 
+constexpr size_t kMaxDepth = 64;         // nesting of lists and maps in a reply
+constexpr size_t kMaxEntries = 1 << 16;  // entries of one list or map in a reply
+
 Value convert(const msgpack::object& o, int depth);
 
 NdArray openpi_array(const msgpack::object& o) {
@@ -134,7 +138,7 @@ NdArray openpi_array(const msgpack::object& o) {
     if (d.type != msgpack::type::POSITIVE_INTEGER) throw WireError("malformed msgpack-numpy array: shape");
     a.shape.push_back(static_cast<size_t>(d.via.u64));
   }
-  if (a.size() * a.item_size() != a.data.size()) {
+  if (!a.data_matches_shape()) {
     throw WireError(fmt::format("malformed msgpack-numpy array: {} bytes of data for dtype {} shape of {} values",
                                 a.data.size(), a.dtype, a.size()));
   }
@@ -142,7 +146,9 @@ NdArray openpi_array(const msgpack::object& o) {
 }
 
 Value convert(const msgpack::object& o, int depth) {
-  if (depth > 64) throw WireError("not msgpack of the protocol: nested deeper than 64");
+  if (depth > static_cast<int>(kMaxDepth)) {
+    throw WireError(fmt::format("not msgpack of the protocol: nested deeper than {}", kMaxDepth));
+  }
   switch (o.type) {
     case msgpack::type::NIL:
       return {};
@@ -211,6 +217,18 @@ size_t NdArray::item_size() const {
   return n;
 }
 
+bool NdArray::data_matches_shape() const {
+  const size_t item = item_size();
+  if (item == 0) return false;
+  if (std::find(shape.begin(), shape.end(), size_t{0}) != shape.end()) return data.empty();
+  size_t bytes = item;
+  for (const size_t d : shape) {
+    if (bytes > data.size() / d) return false;
+    bytes *= d;
+  }
+  return bytes == data.size();
+}
+
 std::vector<double> NdArray::to_doubles(std::string_view where) const {
   const char order = dtype.empty() ? '?' : dtype[0];
   const char kind = dtype.size() > 1 ? dtype[1] : '?';
@@ -223,7 +241,7 @@ std::vector<double> NdArray::to_doubles(std::string_view where) const {
     throw WireError(fmt::format("{}: dtype '{}' is not a little-endian number (float16/32/64, int, uint, bool)",
                                 where, dtype));
   }
-  if (data.size() != size() * n) {
+  if (!data_matches_shape()) {
     throw WireError(fmt::format("{}: {} bytes of data for {} values of {}", where, data.size(), size(), dtype));
   }
   std::vector<double> out(size());
@@ -331,15 +349,18 @@ std::string pack(const Value& value, ArrayCodec codec) {
 Value unpack(std::string_view bytes) {
   try {
     size_t offset = 0;
-    const msgpack::object_handle handle = msgpack::unpack(bytes.data(), bytes.size(), offset);
+    // msgpack-c allocates a container's declared count before reading it: bound the counts (no
+    // reply of the protocols has a list or map of more entries) and the nesting.
+    const msgpack::unpack_limit limit(kMaxEntries, kMaxEntries, bytes.size(), bytes.size(), bytes.size(),
+                                      kMaxDepth);
+    const msgpack::object_handle handle =
+        msgpack::unpack(bytes.data(), bytes.size(), offset, nullptr, nullptr, limit);
     if (offset != bytes.size()) {
       throw WireError(fmt::format("not msgpack: {} bytes after the first object", bytes.size() - offset));
     }
     return convert(handle.get(), 0);
   } catch (const msgpack::unpack_error& e) {
     throw WireError(fmt::format("not msgpack: {}", e.what()));
-  } catch (const core::InputError& e) {
-    throw WireError(fmt::format("bad .npy in a reply: {}", e.what()));
   }
 }
 
@@ -350,12 +371,17 @@ std::string to_npy(const NdArray& array) {
 }
 
 NdArray from_npy(std::string_view bytes, std::string_view where) {
-  const human::NpyArray layout = human::parse_npy_layout(bytes, where);
+  human::NpyArray layout;
+  try {
+    layout = human::parse_npy_layout(bytes, where);
+  } catch (const core::InputError& e) {  // a server's bytes, not the user's file: a WireError
+    throw WireError(e.what());
+  }
   NdArray a;
   a.dtype = layout.descr;
   a.shape = layout.shape;
   a.data = std::string(bytes.substr(layout.data_offset));
-  if (a.item_size() == 0 || a.size() * a.item_size() != a.data.size()) {
+  if (!a.data_matches_shape()) {
     throw WireError(fmt::format("{}: {} bytes of data for dtype '{}' and {} values", where, a.data.size(),
                                 a.dtype, a.size()));
   }

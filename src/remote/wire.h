@@ -34,6 +34,9 @@ struct NdArray {
 
   size_t size() const;       // product of shape (1 for a 0-d array)
   size_t item_size() const;  // bytes per value, from dtype
+  // True when data holds exactly size() values of item_size() bytes (a shape whose product
+  // overflows never does).
+  bool data_matches_shape() const;
   // The values as doubles, by dtype: little-endian or byte-order-free float16/32/64, signed and
   // unsigned integers of 1/2/4/8 bytes and bool. Throws WireError (naming `where`) for another
   // dtype, a big-endian one, or data of the wrong size.
@@ -93,7 +96,7 @@ std::string pack(const Value& value, ArrayCodec codec);
 Value unpack(std::string_view bytes);
 
 // .npy v1.0 bytes of `array` (header padded to a multiple of 64 bytes, as numpy writes it), and
-// back (versions 1.0-3.0, C order; raw bytes kept).
+// back (versions 1.0-3.0, C order; raw bytes kept; bytes that are no such file: WireError).
 std::string to_npy(const NdArray& array);
 NdArray from_npy(std::string_view bytes, std::string_view where);
 

@@ -68,22 +68,56 @@ TEST(Wire, RepliesAreDecodedByTheirDtype) {
   }
 }
 
+// The WireError message of unpacking `bytes`, or "(no error)".
+std::string unpack_error(const std::string& bytes) {
+  try {
+    unpack(bytes);
+  } catch (const WireError& e) {
+    return std::string(e.what());
+  }
+  return std::string("(no error)");
+}
+
 TEST(Wire, BadBytesAreOneLineWireErrors) {
-  const auto error = [](const std::string& bytes) {
-    try {
-      unpack(bytes);
-    } catch (const WireError& e) {
-      return std::string(e.what());
-    }
-    return std::string("(no error)");
-  };
-  EXPECT_EQ(error("\xc1 not msgpack").rfind("not msgpack", 0), 0u) << error("\xc1 not msgpack");
-  EXPECT_EQ(error(std::string("\x92\x01", 2)).rfind("not msgpack", 0), 0u);  // truncated
-  EXPECT_NE(error(std::string("\x01\x02", 2)).find("1 bytes after"), std::string::npos);
+  EXPECT_EQ(unpack_error("\xc1 not msgpack").rfind("not msgpack", 0), 0u) << unpack_error("\xc1 not msgpack");
+  EXPECT_EQ(unpack_error(std::string("\x92\x01", 2)).rfind("not msgpack", 0), 0u);  // truncated
+  EXPECT_NE(unpack_error(std::string("\x01\x02", 2)).find("1 bytes after"), std::string::npos);
   // An array whose data does not match dtype and shape.
   NdArray a = NdArray::from_doubles({1, 2}, {2}, "<f4");
   a.shape = {3};
-  EXPECT_NE(error(pack(Value(a), ArrayCodec::kOpenpi)).find("malformed msgpack-numpy array"), std::string::npos);
+  EXPECT_NE(unpack_error(pack(Value(a), ArrayCodec::kOpenpi)).find("malformed msgpack-numpy array"), std::string::npos);
+}
+
+// Found by fuzz/remote_reply_fuzz.cc: a list or map declaring 2^32 entries in 5 bytes made
+// msgpack-c allocate 64 GiB before reading them; a shape whose product overflows to the data's
+// size passed as an array of 2^64 values.
+TEST(Wire, DeclaredSizesAreBoundedBeforeAnythingIsAllocated) {
+  EXPECT_EQ(unpack_error(std::string("\xdd\xff\xff\xff\xff", 5)).rfind("not msgpack", 0), 0u);  // array32
+  EXPECT_EQ(unpack_error(std::string("\xdf\xff\xff\xff\xff", 5)).rfind("not msgpack", 0), 0u);  // map32
+  std::string deep(70, '\x91');  // [[[...]]] 70 deep
+  deep += '\xc0';
+  EXPECT_EQ(unpack_error(deep).rfind("not msgpack", 0), 0u) << unpack_error(deep);
+  NdArray wraps;
+  wraps.dtype = "<f4";
+  wraps.shape = {size_t{1} << 62, 4};  // 2^64 values of 4 bytes: 0 bytes modulo 2^64
+  EXPECT_FALSE(wraps.data_matches_shape());
+  EXPECT_NE(unpack_error(pack(Value(wraps), ArrayCodec::kOpenpi)).find("malformed msgpack-numpy array"), std::string::npos);
+  wraps.shape = {0, 4};
+  EXPECT_TRUE(wraps.data_matches_shape());
+}
+
+// Found by fuzz/remote_reply_fuzz.cc: NPY bytes that are no NPY file (inside a GR00T reply or
+// alone) escaped as the file reader's InputError instead of the wire's WireError.
+TEST(Wire, BadNpyBytesAreWireErrors) {
+  for (const std::string& bytes : {std::string(), std::string("\x93NUMPY\x01\x00\xff\xff{", 11),
+                                   std::string("not an npy file")}) {
+    try {
+      from_npy(bytes, "reply.actions");
+      FAIL() << "no error for " << bytes.size() << " bytes";
+    } catch (const WireError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("reply.actions", 0), 0u) << e.what();
+    }
+  }
 }
 
 TEST(Wire, Gr00tArraysAreWholeNpyFiles) {
