@@ -133,8 +133,8 @@ core::Pose body_pose(const mjData& d, int body) {
 // (made for this episode's model; one per image size, shared by the cameras of that size) and
 // the contact scratch.
 struct Episode::Scratch {
-  std::vector<std::unique_ptr<render::Renderer>> renderers;
-  std::vector<size_t> renderer_of;  // per requested camera: index into renderers
+  std::vector<std::unique_ptr<render::Renderer>> renderers;  // an episode without a scene
+  std::vector<render::Renderer*> renderer_of;  // per requested camera (the scene's or ours)
   std::vector<int> camera_ids;
   std::vector<sim::Contact> contacts;
   std::vector<ContactPair> pairs;
@@ -149,24 +149,60 @@ std::shared_ptr<const model::Model> model_for(const script::EpisodeSpec& spec,
   return std::make_shared<const model::Model>(model::build(scene_spec_from_episode(spec)));
 }
 
+// The renderer of `renderers` for width x height on `backend`, made for `m` when there is none.
+render::Renderer& renderer_in(std::vector<std::unique_ptr<render::Renderer>>& renderers, render::Backend backend,
+                              const mjModel& m, int width, int height) {
+  const auto same = std::find_if(renderers.begin(), renderers.end(), [&](const auto& r) {
+    return r->backend() == backend && r->width() == width && r->height() == height;
+  });
+  if (same != renderers.end()) return **same;
+  renderers.push_back(render::make_renderer(backend, m, width, height));
+  return *renderers.back();
+}
+
 }  // namespace
+
+EpisodeScene::EpisodeScene(script::EpisodeSpec spec, std::shared_ptr<const model::Model> model)
+    : spec_(std::make_shared<const script::EpisodeSpec>(std::move(spec))),
+      spec_hash_(script::spec_hash(*spec_)),
+      model_(model_for(*spec_, std::move(model))),
+      data_(sim::make_data(*model_)) {
+  auto driver = std::make_unique<ScriptDriver>(spec_);
+  // The contract, with the home TCP of the scene's fresh data (no second Data).
+  contract_ = std::make_shared<const ScenarioContract>(
+      contract_from_episode(*spec_, driver->graph(), *model_, sim::tcp_pose(*model_, data_).translation));
+  driver_ = std::move(driver);
+}
+
+EpisodeScene::~EpisodeScene() = default;
+
+render::Renderer& EpisodeScene::renderer(render::Backend backend, int width, int height) {
+  return renderer_in(renderers_, backend, *model_->m(), width, height);
+}
 
 Episode::Episode(script::EpisodeSpec spec, const policy::PolicySpec& policy, EpisodeSetup setup,
                  RunOptions options, std::shared_ptr<const model::Model> model)
-    : spec_(std::make_shared<const script::EpisodeSpec>(std::move(spec))),
-      own_model_(model_for(*spec_, std::move(model))),
+    : Episode(std::make_unique<EpisodeScene>(std::move(spec), std::move(model)), policy, std::move(setup),
+              std::move(options)) {}
+
+Episode::Episode(std::unique_ptr<EpisodeScene> scene, const policy::PolicySpec& policy, EpisodeSetup setup,
+                 RunOptions options)
+    : Episode(*scene, policy, std::move(setup), std::move(options)) {
+  own_scene_ = std::move(scene);  // (should the episode throw, `scene` still owns it)
+}
+
+Episode::Episode(EpisodeScene& scene, const policy::PolicySpec& policy, EpisodeSetup setup, RunOptions options)
+    : spec_(scene.spec_),
+      own_model_(scene.model_),
       model_(own_model_.get()),
+      contract_(scene.contract_),
       policy_(policy),
       setup_(std::move(setup)),
-      options_(std::move(options)) {
+      options_(std::move(options)),
+      scene_(&scene) {
   if (options_.horizon <= 0) options_.horizon = spec_->horizon;
-  auto driver = std::make_unique<ScriptDriver>(spec_);
-  // The contract, with the home TCP of the episode's own data (no second Data).
-  own_data_ = std::make_unique<sim::Data>(sim::make_data(*model_));
-  data_ = own_data_.get();
-  contract_ = std::make_shared<const ScenarioContract>(contract_from_episode(
-      *spec_, driver->graph(), *model_, sim::tcp_pose(*model_, *data_).translation));
-  own_driver_ = std::move(driver);
+  data_ = &scene.data_;
+  own_driver_ = scene.driver_->clone();
   driver_ = own_driver_.get();
   init();
 }
@@ -219,15 +255,10 @@ void Episode::init() {
   for (const policy::CameraRequest& request : policy_.cameras) {
     scratch_->camera_ids.push_back(
         render::camera_id(*model_->m(), request.name, "policy " + setup_.policy + " camera"));
-    const auto& renderers = scratch_->renderers;
-    const auto same_size = std::find_if(renderers.begin(), renderers.end(), [&](const auto& r) {
-      return r->width() == request.width && r->height() == request.height;
-    });
-    scratch_->renderer_of.push_back(static_cast<size_t>(same_size - renderers.begin()));
-    if (same_size == renderers.end()) {
-      scratch_->renderers.push_back(
-          render::make_renderer(options_.render_backend, *model_->m(), request.width, request.height));
-    }
+    scratch_->renderer_of.push_back(
+        scene_ != nullptr
+            ? &scene_->renderer(options_.render_backend, request.width, request.height)
+            : &renderer_in(scratch_->renderers, options_.render_backend, *model_->m(), request.width, request.height));
   }
 }
 
@@ -443,7 +474,7 @@ policy::Observation Episode::observe() {
     policy::Image image;
     image.camera = policy_.cameras[i].name;
     render::Image rgb;
-    scratch_->renderers[scratch_->renderer_of[i]]->render(*model_, *data_, scratch_->camera_ids[i], rgb);
+    scratch_->renderer_of[i]->render(*model_, *data_, scratch_->camera_ids[i], rgb);
     image.width = rgb.width;
     image.height = rgb.height;
     image.pixels = std::move(rgb.rgb);

@@ -140,6 +140,40 @@ class LogFileWriter : public EpisodeObserver {
 
 class EpisodeSnapshot;
 
+// What every episode of one sampled spec shares, whichever policy runs it (docs/episode.md
+// "Reuse"): the spec, its scene's model, the script driver as compiled (each episode runs a
+// copy), the contract, one Data (the state buffers; every episode's reset() starts them afresh)
+// and the camera renderers, one per back end and image size, made when first asked. An
+// evaluation worker keeps the scene of the spec it is running (eval/run.h), so the next
+// policy's episode of that spec builds nothing. Used by one episode at a time, on the thread
+// that made its renderers (their GL context is that thread's). Throws core::InputError when
+// the scene cannot be built or the script does not compile.
+class EpisodeScene {
+ public:
+  // `model`: built from the spec's scene (scene_spec_from_episode), e.g. with shadows for a
+  // picture; null: built here.
+  explicit EpisodeScene(script::EpisodeSpec spec, std::shared_ptr<const model::Model> model = nullptr);
+  EpisodeScene(const EpisodeScene&) = delete;
+  EpisodeScene& operator=(const EpisodeScene&) = delete;
+  ~EpisodeScene();
+
+  const script::EpisodeSpec& spec() const { return *spec_; }
+  const std::string& spec_hash() const { return spec_hash_; }
+  const model::Model& model() const { return *model_; }
+  // The renderer of width x height images on `backend` for this scene's model (made once).
+  render::Renderer& renderer(render::Backend backend, int width, int height);
+
+ private:
+  friend class Episode;
+  std::shared_ptr<const script::EpisodeSpec> spec_;
+  std::string spec_hash_;
+  std::shared_ptr<const model::Model> model_;
+  std::unique_ptr<ScenarioDriver> driver_;  // compiled, never run: episodes run a clone
+  std::shared_ptr<const ScenarioContract> contract_;
+  sim::Data data_;
+  std::vector<std::unique_ptr<render::Renderer>> renderers_;
+};
+
 class Episode {
  public:
   // A sampled task episode: builds its scene's model (scene_spec_from_episode) unless `model`
@@ -151,6 +185,10 @@ class Episode {
   // and for options it cannot honour (see below).
   Episode(script::EpisodeSpec spec, const policy::PolicySpec& policy, EpisodeSetup setup,
           RunOptions options, std::shared_ptr<const model::Model> model = nullptr);
+  // An episode of `scene`'s spec, in the scene's Data with its renderers (borrowed: the scene
+  // outlives the episode, and runs no other episode meanwhile). The same log as the episode
+  // made from the spec, bit for bit, whatever episodes the scene ran before.
+  Episode(EpisodeScene& scene, const policy::PolicySpec& policy, EpisodeSetup setup, RunOptions options);
   // Any model, Data and driver (borrowed: they outlive the episode; the data is the episode's
   // state). metrics() needs a spec: it throws core::InputError here.
   Episode(const model::Model& model, sim::Data& data, ScenarioDriver& driver,
@@ -213,6 +251,8 @@ class Episode {
 
  private:
   struct Scratch;
+  Episode(std::unique_ptr<EpisodeScene> scene, const policy::PolicySpec& policy, EpisodeSetup setup,
+          RunOptions options);
   void init();
   void record(const policy::Action* action);
   void finish(core::EpisodeStatus status, std::string reason);
@@ -232,6 +272,8 @@ class Episode {
   int max_steps_ = 0;   // control steps to the horizon
   sim::SeparationMonitor monitor_;
   std::unique_ptr<Scratch> scratch_;  // cameras (renderers for this model), contact scratch
+  std::unique_ptr<EpisodeScene> own_scene_;  // an episode made from a spec
+  EpisodeScene* scene_ = nullptr;            // its scene (own or borrowed); null for a copy
   // Data (the state).
   std::unique_ptr<sim::Data> own_data_;
   sim::Data* data_ = nullptr;

@@ -1,5 +1,6 @@
 #include "eval/run.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <exception>
@@ -33,8 +34,13 @@ struct Job {
   std::string key;
 };
 
-// The policies of one worker thread: one instance per reference for the whole run.
-using WorkerPolicies = std::map<std::string, std::unique_ptr<policy::Policy>>;
+// What one worker thread keeps for the whole run: one instance of each policy, and the scene
+// of the spec it ran last (model, Data, renderers: the next policy's episode of that spec
+// builds nothing).
+struct Worker {
+  std::map<std::string, std::unique_ptr<policy::Policy>> policies;
+  std::unique_ptr<EpisodeScene> scene;
+};
 
 // The log file of an episode: DIR/logs/STEM.hlog (eval/episode_files.h).
 fs::path log_path(const fs::path& dir, const Job& job) {
@@ -42,20 +48,23 @@ fs::path log_path(const fs::path& dir, const Job& job) {
 }
 
 // One episode; trouble (a scene the model cannot build, any exception) -> invalid with reason.
-EpisodeResult run_one(const Job& job, const RunSettings& settings, WorkerPolicies& policies,
-                      const PolicyMaker& make) {
+EpisodeResult run_one(const Job& job, const RunSettings& settings, Worker& worker, const PolicyMaker& make) {
   const std::optional<fs::path> log_file =
       settings.save_logs ? std::optional<fs::path>(log_path(settings.out, job)) : std::nullopt;
   const script::EpisodeSpec& spec = *job.spec;
   EpisodeResult result;
   try {
-    std::unique_ptr<policy::Policy>& policy = policies[job.policy];
+    std::unique_ptr<policy::Policy>& policy = worker.policies[job.policy];
     if (!policy) policy = make(job.policy);
+    if (!worker.scene || worker.scene->spec_hash() != job.hash) {
+      worker.scene.reset();  // one scene in memory per worker
+      worker.scene = std::make_unique<EpisodeScene>(spec);
+    }
     const EpisodeSetup setup{spec.task, spec.role, job.hash, spec.seed, spec.instruction, job.policy};
     std::optional<LogFileWriter> writer;
     std::vector<EpisodeObserver*> observers;
     if (log_file) observers.push_back(&writer.emplace(*log_file));
-    const ScoredEpisode scored = run_task_episode(spec, *policy, setup, settings.run_options, observers);
+    const ScoredEpisode scored = run_task_episode(*worker.scene, *policy, setup, settings.run_options, observers);
     result = make_result(scored.log, scored.metrics);
     if (settings.after_episode) {
       try {
@@ -177,12 +186,15 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
   for (const EpisodeResult& r : finished) by_key.emplace(episode_key(r), r);
 
   // Jobs in (task, policy, episode) order (a shard's: every N-th); those already finished are
-  // skipped.
+  // skipped. They are handed to the workers episode by episode, the policies of an episode one
+  // after another (each worker keeps the scene it ran last), in `todo`.
   std::vector<Job> all_jobs;
   std::vector<size_t> todo;
+  std::vector<std::pair<const script::EpisodeSpec*, size_t>> scene_order;  // per job: episode, policy
   size_t job_number = 0;
   for (const std::vector<script::EpisodeSpec>& specs : plan.by_task) {
-    for (const std::string& p : plan.policies) {
+    for (size_t policy_index = 0; policy_index < plan.policies.size(); ++policy_index) {
+      const std::string& p = plan.policies[policy_index];
       for (const script::EpisodeSpec& spec : specs) {
         const size_t number = job_number++;
         if (plan.shard && !plan.shard->owns(number)) continue;
@@ -194,15 +206,27 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
         job.policy = p;
         job.key = episode_key(spec.task, p, job.hash, spec.seed);
         if (by_key.count(job.key) == 0) todo.push_back(all_jobs.size());
+        scene_order.emplace_back(&spec, policy_index);
         all_jobs.push_back(std::move(job));
       }
     }
   }
+  // Each episode at its first job's place, then its policies in plan order.
+  std::vector<size_t> first_of_spec(all_jobs.size());
+  {
+    std::map<const script::EpisodeSpec*, size_t> first;
+    for (size_t i = 0; i < all_jobs.size(); ++i) {
+      first_of_spec[i] = first.emplace(scene_order[i].first, i).first->second;
+    }
+  }
+  std::stable_sort(todo.begin(), todo.end(), [&](size_t a, size_t b) {
+    return std::pair(first_of_spec[a], scene_order[a].second) < std::pair(first_of_spec[b], scene_order[b].second);
+  });
 
   // Run, appending each episode as it finishes.
   const fs::path lines_file = settings.out / "episodes.jsonl";
   if (settings.save_logs) fs::create_directories(settings.out / "logs");
-  std::vector<WorkerPolicies> worker_policies(static_cast<size_t>(settings.threads));
+  std::vector<Worker> workers(static_cast<size_t>(settings.threads));
   const auto start = std::chrono::steady_clock::now();
   size_t done = 0;
   const auto append = [&](const EpisodeResult& result) {
@@ -222,8 +246,7 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
         todo.size(), settings.threads,
         [&](size_t job, int worker) {
           if (stop) throw RunStopped("stopped");
-          return run_one(all_jobs[todo[job]], settings, worker_policies[static_cast<size_t>(worker)],
-                         make);
+          return run_one(all_jobs[todo[job]], settings, workers[static_cast<size_t>(worker)], make);
         },
         [&](size_t, const EpisodeResult& result) {
           if (settings.unreachable && settings.unreachable(result)) {

@@ -8,8 +8,10 @@
 // hribench.evaluate make (gen/evaluation.h builds the plan from their options).
 //
 // Reuse: each worker thread makes one instance of each policy (PolicyMaker) for the whole run
-// and resets it for every episode (Policy::reset). Each episode has its own scene, hence its
-// own MuJoCo model, Data and renderers; nothing is built twice per episode.
+// and resets it for every episode (Policy::reset), and keeps the EpisodeScene (model, Data,
+// renderers; eval/episode.h) of the episode it ran last. Jobs are handed out episode by
+// episode, the policies of one episode in a row, so a worker that runs several policies on an
+// episode builds its scene once. Results do not depend on it (the same logs, bit for bit).
 
 #include <cstddef>
 #include <filesystem>

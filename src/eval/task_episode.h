@@ -28,5 +28,9 @@ struct ScoredEpisode {
 ScoredEpisode run_task_episode(const script::EpisodeSpec& spec, policy::Policy& policy,
                                const EpisodeSetup& setup, RunOptions options,
                                const std::vector<EpisodeObserver*>& observers = {});
+// The same in `scene` (its Data and renderers; eval/episode.h EpisodeScene): the same log and
+// metrics, bit for bit.
+ScoredEpisode run_task_episode(EpisodeScene& scene, policy::Policy& policy, const EpisodeSetup& setup,
+                               RunOptions options, const std::vector<EpisodeObserver*>& observers = {});
 
 }  // namespace hribench::eval

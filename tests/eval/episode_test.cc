@@ -302,5 +302,42 @@ TEST(Episode, LogAloneRerendersTheLiveFrame) {
   EXPECT_NE(replayed.rgb, live.rgb);
 }
 
+// An episode in a scene that has run other episodes (eval/run.h keeps one per worker) gives a
+// fresh episode's log and metrics bit for bit, and the scene's renderers, made once, render
+// what a fresh episode's render.
+TEST(EpisodeScene, EpisodesInOneSceneEqualFreshOnes) {
+  const script::EpisodeSpec spec = sample_task("tasks/C1_handover_h2r.yaml", 3);
+  RunOptions options;
+  options.horizon = 0;
+  EpisodeScene scene(spec);
+  EXPECT_EQ(scene.spec_hash(), script::spec_hash(spec));
+  for (const char* name : {"noop", "oracle"}) {  // the oracle in a scene noop has run
+    std::unique_ptr<policy::Policy> policy = policy::make_policy(name);
+    const ScoredEpisode fresh = run_task_episode(spec, *policy, setup_of(spec, name), options);
+    const ScoredEpisode in_scene = run_task_episode(scene, *policy, setup_of(spec, name), options);
+    ASSERT_GT(fresh.log.steps.size(), 1u);
+    EXPECT_TRUE(identical(in_scene.log, fresh.log)) << name;
+    EXPECT_EQ(scored_json(in_scene.log, in_scene.metrics), scored_json(fresh.log, fresh.metrics)) << name;
+  }
+  policy::PolicySpec cameras;
+  cameras.cameras = {{"agentview", 64, 48}, {"wrist", 64, 48}};
+  for (int round = 0; round < 2; ++round) {
+    Episode fresh(spec, cameras, setup_of(spec, "cameras"), options);
+    Episode in_scene(scene, cameras, setup_of(spec, "cameras"), options);
+    fresh.reset();
+    in_scene.reset();
+    for (int i = 0; i < 10 * (round + 1); ++i) {
+      fresh.hold();
+      in_scene.hold();
+    }
+    const policy::Observation a = fresh.observe();
+    const policy::Observation b = in_scene.observe();
+    ASSERT_EQ(a.images.size(), 2u);
+    ASSERT_EQ(b.images.size(), 2u);
+    for (size_t i = 0; i < a.images.size(); ++i) EXPECT_EQ(a.images[i].pixels, b.images[i].pixels) << i;
+    EXPECT_TRUE(identical(in_scene.log(), fresh.log()));
+  }
+}
+
 }  // namespace
 }  // namespace hribench::eval
