@@ -1,9 +1,13 @@
 #include "remote/server.h"
 
 #include <chrono>
+#include <iterator>
+#include <map>
+#include <memory>
 #include <thread>
 
 #include <zmq.hpp>
+#include <zmq_addon.hpp>
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
@@ -134,23 +138,32 @@ void serve_openpi(const std::string& host, uint16_t port, const PolicyMaker& mak
 void serve_gr00t(const std::string& host, uint16_t port, const PolicyMaker& make,
                  const std::function<void(uint16_t)>& on_listening, const std::atomic<bool>& stop) {
   zmq::context_t context(1);
-  zmq::socket_t rep(context, zmq::socket_type::rep);
-  rep.set(zmq::sockopt::linger, 0);
+  // A ROUTER socket: it answers REQ clients as a REP socket does, and tells them apart by the
+  // routing frame it receives before each request (identity, empty delimiter, request).
+  zmq::socket_t router(context, zmq::socket_type::router);
+  router.set(zmq::sockopt::linger, 0);
   try {
-    rep.bind(fmt::format("tcp://{}:{}", host, port == 0 ? std::string("*") : std::to_string(port)));
+    router.bind(fmt::format("tcp://{}:{}", host, port == 0 ? std::string("*") : std::to_string(port)));
   } catch (const zmq::error_t& e) {
     throw core::InputError("--port", "a port free to listen on", fmt::format("{}: {}", port, e.what()));
   }
-  const std::string bound = rep.get(zmq::sockopt::last_endpoint);
+  const std::string bound = router.get(zmq::sockopt::last_endpoint);
   on_listening(static_cast<uint16_t>(std::stoi(bound.substr(bound.rfind(':') + 1))));
-  std::unique_ptr<policy::Policy> policy = make();
-  bool started = false;
+  struct Session {
+    std::unique_ptr<policy::Policy> policy;
+    bool started = false;
+  };
+  std::map<std::string, Session> sessions;  // by the client socket's routing identity
+  const std::unique_ptr<policy::Policy> spec_source = make();
   while (!stop) {
-    zmq::pollitem_t items[] = {{rep.handle(), 0, ZMQ_POLLIN, 0}};
+    zmq::pollitem_t items[] = {{router.handle(), 0, ZMQ_POLLIN, 0}};
     zmq::poll(items, 1, std::chrono::milliseconds(100));
     if ((items[0].revents & ZMQ_POLLIN) == 0) continue;
-    zmq::message_t message;
-    if (!rep.recv(message, zmq::recv_flags::none)) continue;
+    std::vector<zmq::message_t> frames;
+    if (!zmq::recv_multipart(router, std::back_inserter(frames))) continue;
+    if (frames.size() != 3 || frames[1].size() != 0) continue;  // not a REQ client's request
+    const std::string client = frames[0].to_string();
+    const zmq::message_t& message = frames[2];
     Value reply;
     bool kill = false;
     try {
@@ -163,14 +176,17 @@ void serve_gr00t(const std::string& host, uint16_t port, const PolicyMaker& make
       } else if (endpoint == "kill") {
         kill = true;
       } else if (endpoint == "get_modality_config") {
-        reply = Map{{"hribench/spec", spec_to_value(policy->spec())}};
+        reply = Map{{"hribench/spec", spec_to_value(spec_source->spec())}};
       } else if (endpoint == "reset") {
-        started = false;
+        sessions[client].started = false;
         reply = Map{};
       } else if (endpoint == "get_action") {
         const Map& data = at(envelope, "data", "request").map("data");
         const Gr00tEra era = find(data, "observation") != nullptr ? Gr00tEra::kN16 : Gr00tEra::kN15;
-        reply = gr00t_reply(encode_native_actions(serve_query(*policy, gr00t_groups(data), started), true), era);
+        Session& session = sessions[client];
+        if (!session.policy) session.policy = make();
+        reply = gr00t_reply(encode_native_actions(serve_query(*session.policy, gr00t_groups(data), session.started), true),
+                            era);
       } else {
         reply = Map{{"error", "Unknown endpoint: " + endpoint}};
       }
@@ -178,7 +194,9 @@ void serve_gr00t(const std::string& host, uint16_t port, const PolicyMaker& make
       reply = Map{{"error", std::string(dynamic_cast<const policy::PolicyError*>(&e) != nullptr ? "PolicyError: " : "") + e.what()}};
     }
     const std::string bytes = pack(reply, ArrayCodec::kGr00t);
-    rep.send(zmq::buffer(bytes), zmq::send_flags::none);
+    router.send(frames[0], zmq::send_flags::sndmore);
+    router.send(zmq::message_t(), zmq::send_flags::sndmore);
+    router.send(zmq::buffer(bytes), zmq::send_flags::none);
     if (kill) return;
   }
 }

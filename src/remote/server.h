@@ -34,8 +34,9 @@ void serve_openpi(const std::string& host, uint16_t port, const PolicyMaker& mak
 // GR00T: a ZeroMQ REP socket bound to tcp://host:port answering ping, get_modality_config
 // ({"hribench/spec": the spec}), reset, get_action (either era's layout, told by the
 // "observation" key; the reply in that era's form with the groups "eef_delta" or
-// "joint_position", and "gripper") and kill (stops serving). Errors are {"error": "..."}. One
-// policy instance: REQ/REP serves one request at a time, so serve one client (--threads 1).
+// "joint_position", and "gripper") and kill (stops serving). Errors are {"error": "..."}.
+// Requests are answered one at a time; each client socket (told apart by its ZeroMQ routing
+// identity: several eval threads may connect at once) gets its own policy instance and episode.
 void serve_gr00t(const std::string& host, uint16_t port, const PolicyMaker& make,
                  const std::function<void(uint16_t)>& on_listening, const std::atomic<bool>& stop);
 

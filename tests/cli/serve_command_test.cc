@@ -31,6 +31,8 @@ std::vector<nlohmann::json> episodes(const std::string& dir) {
   std::vector<nlohmann::json> out;
   std::istringstream lines(read_text(fs::path(dir) / "episodes.jsonl"));
   for (std::string line; std::getline(lines, line);) out.push_back(nlohmann::json::parse(line));
+  // In seed order (the file is in completion order: two threads).
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.at("seed") < b.at("seed"); });
   return out;
 }
 
@@ -42,10 +44,11 @@ std::vector<fs::path> logs(const std::string& dir) {
 }
 
 // Evaluates `policy` on two short episodes of I1 (the server's reference and the in-process
-// oracle get the same episodes).
+// oracle get the same episodes), on two threads: a server serves two clients at once, each
+// its own episode.
 ::hribench::testing::CommandResult eval_into(const std::string& dir, const std::string& policy) {
-  return run_hribench("eval --tasks I1 --episodes 2 --seed 5 --horizon 3 --latency none --save-logs --policy '" +
-                      policy + "' --out " + dir);
+  return run_hribench("eval --tasks I1 --episodes 2 --seed 5 --horizon 3 --latency none --threads 2 --save-logs "
+                      "--policy '" + policy + "' --out " + dir);
 }
 
 void expect_same_episodes(const std::string& local, const std::string& remote) {
