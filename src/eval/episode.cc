@@ -164,7 +164,6 @@ render::Renderer& renderer_in(std::vector<std::unique_ptr<render::Renderer>>& re
 
 EpisodeScene::EpisodeScene(script::EpisodeSpec spec, std::shared_ptr<const model::Model> model)
     : spec_(std::make_shared<const script::EpisodeSpec>(std::move(spec))),
-      spec_hash_(script::spec_hash(*spec_)),
       model_(model_for(*spec_, std::move(model))),
       data_(sim::make_data(*model_)) {
   auto driver = std::make_unique<ScriptDriver>(spec_);

@@ -141,7 +141,7 @@ class LogFileWriter : public EpisodeObserver {
 class EpisodeSnapshot;
 
 // What every episode of one sampled spec shares, whichever policy runs it (docs/episode.md
-// "Reuse"): the spec, its scene's model, the script driver as compiled (each episode runs a
+// "Scenes"): the spec, its scene's model, the script driver as compiled (each episode runs a
 // copy), the contract, one Data (the state buffers; every episode's reset() starts them afresh)
 // and the camera renderers, one per back end and image size, made when first asked. An
 // evaluation worker keeps the scene of the spec it is running (eval/run.h), so the next
@@ -158,7 +158,6 @@ class EpisodeScene {
   ~EpisodeScene();
 
   const script::EpisodeSpec& spec() const { return *spec_; }
-  const std::string& spec_hash() const { return spec_hash_; }
   const model::Model& model() const { return *model_; }
   // The renderer of width x height images on `backend` for this scene's model (made once).
   render::Renderer& renderer(render::Backend backend, int width, int height);
@@ -166,7 +165,6 @@ class EpisodeScene {
  private:
   friend class Episode;
   std::shared_ptr<const script::EpisodeSpec> spec_;
-  std::string spec_hash_;
   std::shared_ptr<const model::Model> model_;
   std::unique_ptr<ScenarioDriver> driver_;  // compiled, never run: episodes run a clone
   std::shared_ptr<const ScenarioContract> contract_;

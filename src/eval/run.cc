@@ -56,7 +56,7 @@ EpisodeResult run_one(const Job& job, const RunSettings& settings, Worker& worke
   try {
     std::unique_ptr<policy::Policy>& policy = worker.policies[job.policy];
     if (!policy) policy = make(job.policy);
-    if (!worker.scene || worker.scene->spec_hash() != job.hash) {
+    if (!worker.scene || script::spec_hash(worker.scene->spec()) != job.hash) {
       worker.scene.reset();  // one scene in memory per worker
       worker.scene = std::make_unique<EpisodeScene>(spec);
     }

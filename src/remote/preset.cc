@@ -66,7 +66,7 @@ std::vector<std::vector<double>> concatenated(const ActionGroups& groups,
   for (const auto& [name, w] : layout) {
     const NdArray* a = group(name);
     if (a == nullptr) {
-      std::vector<std::string> names;  // clang-14 with libstdc++ 12 cannot compile views::keys (docs/hardening.md)
+      std::vector<std::string> names;  // not views::keys: the fuzz build's clang-14 cannot compile it over libstdc++ 12
       for (const auto& entry : layout) names.push_back(entry.first);
       bad_reply(fmt::format("no 'actions' in the reply (got: {}; or the groups {})", present.empty() ? "none" : present,
                             fmt::join(names, ", ")));

@@ -36,7 +36,8 @@ void serve_openpi(const std::string& host, uint16_t port, const PolicyMaker& mak
 // "observation" key; the reply in that era's form with the groups "eef_delta" or
 // "joint_position", and "gripper") and kill (stops serving). Errors are {"error": "..."}.
 // Requests are answered one at a time; each client socket (told apart by its ZeroMQ routing
-// identity: several eval threads may connect at once) gets its own policy instance and episode.
+// identity: several eval threads may connect at once) gets its own policy instance and episode,
+// kept while the server runs (ZeroMQ does not tell when a client has gone).
 void serve_gr00t(const std::string& host, uint16_t port, const PolicyMaker& make,
                  const std::function<void(uint16_t)>& on_listening, const std::atomic<bool>& stop);
 

@@ -310,7 +310,7 @@ TEST(EpisodeScene, EpisodesInOneSceneEqualFreshOnes) {
   RunOptions options;
   options.horizon = 0;
   EpisodeScene scene(spec);
-  EXPECT_EQ(scene.spec_hash(), script::spec_hash(spec));
+  EXPECT_EQ(script::spec_hash(scene.spec()), script::spec_hash(spec));
   for (const char* name : {"noop", "oracle"}) {  // the oracle in a scene noop has run
     std::unique_ptr<policy::Policy> policy = policy::make_policy(name);
     const ScoredEpisode fresh = run_task_episode(spec, *policy, setup_of(spec, name), options);
