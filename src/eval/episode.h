@@ -158,7 +158,6 @@ class EpisodeScene {
   ~EpisodeScene();
 
   const script::EpisodeSpec& spec() const { return *spec_; }
-  const model::Model& model() const { return *model_; }
   // The renderer of width x height images on `backend` for this scene's model (made once).
   render::Renderer& renderer(render::Backend backend, int width, int height);
 

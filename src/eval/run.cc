@@ -1,6 +1,7 @@
 #include "eval/run.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <exception>
@@ -190,12 +191,14 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
   // after another (each worker keeps the scene it ran last), in `todo`.
   std::vector<Job> all_jobs;
   std::vector<size_t> todo;
-  std::vector<std::pair<const script::EpisodeSpec*, size_t>> scene_order;  // per job: episode, policy
+  std::vector<std::array<size_t, 3>> hand_out;  // per job: (task, episode, policy), the hand-out order
   size_t job_number = 0;
-  for (const std::vector<script::EpisodeSpec>& specs : plan.by_task) {
+  for (size_t task = 0; task < plan.by_task.size(); ++task) {
+    const std::vector<script::EpisodeSpec>& specs = plan.by_task[task];
     for (size_t policy_index = 0; policy_index < plan.policies.size(); ++policy_index) {
       const std::string& p = plan.policies[policy_index];
-      for (const script::EpisodeSpec& spec : specs) {
+      for (size_t episode = 0; episode < specs.size(); ++episode) {
+        const script::EpisodeSpec& spec = specs[episode];
         const size_t number = job_number++;
         if (plan.shard && !plan.shard->owns(number)) continue;
         Job job;
@@ -206,22 +209,12 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
         job.policy = p;
         job.key = episode_key(spec.task, p, job.hash, spec.seed);
         if (by_key.count(job.key) == 0) todo.push_back(all_jobs.size());
-        scene_order.emplace_back(&spec, policy_index);
+        hand_out.push_back({task, episode, policy_index});
         all_jobs.push_back(std::move(job));
       }
     }
   }
-  // Each episode at its first job's place, then its policies in plan order.
-  std::vector<size_t> first_of_spec(all_jobs.size());
-  {
-    std::map<const script::EpisodeSpec*, size_t> first;
-    for (size_t i = 0; i < all_jobs.size(); ++i) {
-      first_of_spec[i] = first.emplace(scene_order[i].first, i).first->second;
-    }
-  }
-  std::stable_sort(todo.begin(), todo.end(), [&](size_t a, size_t b) {
-    return std::pair(first_of_spec[a], scene_order[a].second) < std::pair(first_of_spec[b], scene_order[b].second);
-  });
+  std::stable_sort(todo.begin(), todo.end(), [&](size_t a, size_t b) { return hand_out[a] < hand_out[b]; });
 
   // Run, appending each episode as it finishes.
   const fs::path lines_file = settings.out / "episodes.jsonl";

@@ -321,9 +321,16 @@ TEST(EpisodeScene, EpisodesInOneSceneEqualFreshOnes) {
   }
   policy::PolicySpec cameras;
   cameras.cameras = {{"agentview", 64, 48}, {"wrist", 64, 48}};
+  const sim::Data* scene_data = nullptr;
   for (int round = 0; round < 2; ++round) {
     Episode fresh(spec, cameras, setup_of(spec, "cameras"), options);
     Episode in_scene(scene, cameras, setup_of(spec, "cameras"), options);
+    // The scene's one Data, not a new one per episode.
+    if (scene_data != nullptr) {
+      EXPECT_EQ(&in_scene.data(), scene_data);
+    }
+    scene_data = &in_scene.data();
+    EXPECT_NE(&fresh.data(), scene_data);
     fresh.reset();
     in_scene.reset();
     for (int i = 0; i < 10 * (round + 1); ++i) {
