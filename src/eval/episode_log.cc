@@ -110,7 +110,11 @@ bool same_quat(const core::Quat& a, const core::Quat& b) {
 }
 
 bool same_skeleton_pose(const human::SkeletonPose& a, const human::SkeletonPose& b) {
-  return same_pose(a.X_WP, b.X_WP) && same_range(a.local, b.local, same_quat);
+  const auto same_hand = [](const human::HandShape& x, const human::HandShape& y) {
+    return same_bits(x.grip, y.grip) && same_bits(x.point, y.point);
+  };
+  return same_pose(a.X_WP, b.X_WP) && same_range(a.local, b.local, same_quat) &&
+         same_range(a.hands, b.hands, same_hand);
 }
 
 bool same_step(const StepRecord& a, const StepRecord& b) {
@@ -322,6 +326,7 @@ size_t min_step_bytes(const EpisodeLog& log) {
          + 2 * sizeof(uint64_t) + sizeof(double)         // action, joint targets, gripper target
          + human::kNumJoints * 3 * sizeof(double)        // human joint positions
          + kPoseBytes + human::kNumJoints * 4 * sizeof(double)  // human skeleton pose
+         + 2 * 2 * sizeof(double)                        // hand shapes
          + objects * (kPoseBytes + sizeof(double))       // object poses, lid angles
          + 3 * sizeof(double) + sizeof(uint64_t)         // separation, speeds, contact count
          + log.predicate_names.size();                   // predicate values
@@ -357,6 +362,10 @@ void write_payload(const EpisodeLog& log, Writer& w) {
     for (const core::Vec3& p : s.human_joints_W) w.put_vec3(p);
     w.put_pose(s.human_pose.X_WP);
     for (const core::Quat& q : s.human_pose.local) w.put_quat(q);
+    for (const human::HandShape& h : s.human_pose.hands) {
+      w.put<double>(h.grip);
+      w.put<double>(h.point);
+    }
     for (const core::Pose& p : s.object_poses) w.put_pose(p);
     for (const double a : s.lid_angles) w.put<double>(a);
     w.put<double>(s.separation);
@@ -414,6 +423,10 @@ EpisodeLog read_payload(Reader& r) {
     for (core::Vec3& p : s.human_joints_W) p = r.get_vec3("human joint");
     s.human_pose.X_WP = r.get_pose("human root pose");
     for (core::Quat& q : s.human_pose.local) q = r.get_quat("human joint rotation");
+    for (human::HandShape& h : s.human_pose.hands) {
+      h.grip = r.get<double>("hand grip");
+      h.point = r.get<double>("hand point");
+    }
     s.object_poses.resize(log.object_names.size());
     for (core::Pose& p : s.object_poses) p = r.get_pose("object pose");
     s.lid_angles.resize(log.object_names.size());

@@ -33,7 +33,7 @@
 
 namespace hribench::eval {
 
-inline constexpr uint32_t kEpisodeLogVersion = 2;
+inline constexpr uint32_t kEpisodeLogVersion = 3;
 
 // What the robot touched.
 enum class ContactOther {

@@ -349,6 +349,7 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
     if (owner[h] == active_) continue;
     // The arm reaches where the owning plan puts the wrist (world pose), from this torso.
     const human::SkeletonPose arm = m.pose_at(t);
+    pose.hands[h] = arm.hands[h];
     const core::Pose X_WW = human::forward_kinematics(model.skeleton, arm)[static_cast<size_t>(human::index(kWrist[h]))];
     human::ArmTarget target;
     target.wrist = X_WW.translation;

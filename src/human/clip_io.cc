@@ -101,7 +101,11 @@ std::string format_clip_json(const Clip& clip) {
     const Vec3& p = pose.X_WP.translation;
     Json local = Json::array();
     for (size_t k = 0; k < pose.local.size(); ++k) local.push_back(quat_json(k == 0 ? core::Quat::Identity() : pose.local[k]));
-    frames.push_back({{"root", {{"p", {p.x(), p.y(), p.z()}}, {"q", quat_json(pose.X_WP.rotation)}}}, {"local", local}});
+    Json hands = Json::array();
+    for (const HandShape& h : pose.hands) hands.push_back({{"grip", h.grip}, {"point", h.point}});
+    frames.push_back({{"root", {{"p", {p.x(), p.y(), p.z()}}, {"q", quat_json(pose.X_WP.rotation)}}},
+                      {"local", local},
+                      {"hands", hands}});
   }
   j["frames"] = frames;
   return j.dump() + "\n";
@@ -156,6 +160,17 @@ Clip parse_clip_json(std::string_view text, std::string_view where) {
     pose.X_WP.rotation = r.quat(r.member(root, "q", path + ".root"), path + ".root.q");
     const Json& local = r.array(r.member(frames[f], "local", path), path + ".local", kNumJoints);
     for (size_t k = 1; k < local.size(); ++k) pose.local[k] = r.quat(local[k], fmt::format("{}.local[{}]", path, k));
+    // Hand shapes are optional (a clip converted from motion capture has none: open hands).
+    if (frames[f].contains("hands")) {
+      const Json& hands = r.array(frames[f]["hands"], path + ".hands", 2);
+      for (size_t h = 0; h < 2; ++h) {
+        const std::string at = fmt::format("{}.hands[{}]", path, h);
+        for (const auto& [key, value] : {std::pair{"grip", &pose.hands[h].grip}, std::pair{"point", &pose.hands[h].point}}) {
+          *value = r.number(r.member(hands[h], key, at), at + "." + key);
+          if (*value < 0 || *value > 1) r.fail(at + "." + key, "a number in [0, 1]", Json(*value));
+        }
+      }
+    }
     clip.frames.push_back(pose);
   }
   return clip;

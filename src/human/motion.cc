@@ -424,7 +424,7 @@ BodyKey MotionPlan::interpolate(size_t segment, double tau) const {
     }
     o.rotation = a.rotation.slerp(s, b.rotation).normalized();
     o.swivel = (1 - s) * a.swivel + s * b.swivel;
-    o.free_roll = (1 - s) * a.free_roll + s * b.free_roll;
+    o.point = (1 - s) * a.point + s * b.point;
     o.grip = (1 - s) * a.grip + s * b.grip;
     o.holding = s >= 0.5 ? b.holding : a.holding;
   }
@@ -493,7 +493,7 @@ SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t) const 
       wrist_F += o.offset * w;
       R = (core::axis_angle(o.axis, o.angle * w) * R).normalized();
     }
-    targets[h] = {key.X_WF * wrist_F, hk.swivel, (key.X_WF.rotation * R).normalized(), hk.free_roll};
+    targets[h] = {key.X_WF * wrist_F, hk.swivel, (key.X_WF.rotation * R).normalized(), hk.point};
   }
   // Torso lean: the keys' leans interpolated on the segment's progress, or more where a hand
   // reaching at both keys asks for more now. (A lean computed for each instant came in at once
@@ -542,7 +542,10 @@ SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t) const 
     const auto shift = hanging_shift(k, pose, lean_dir, lean, crouch, reaching);
     for (size_t h = 0; h < 2; ++h) targets[h].wrist += shift[h];
   }
-  for (size_t h = 0; h < 2; ++h) solve_arm(k, pose, side_of(h), targets[h]);
+  for (size_t h = 0; h < 2; ++h) {
+    solve_arm(k, pose, side_of(h), targets[h]);
+    pose.hands[h] = {key.hands[h].grip, key.hands[h].point};
+  }
   // Head: toward the gaze point, yaw at the neck (<= 50 deg), pitch at the head (-30..45 deg);
   // the neck extends with a forward lean so the face stays up.
   const double extension =
@@ -936,12 +939,12 @@ void build_point(PlanBuilder& b) {
   const double ext = b.num("extension") * b.reach(h);
   // Preparation: wrist onto the ray at half extension (elbow flexed); stroke: out along it.
   b.move_hand(h, S + (0.5 * ext + k.palm_distance) * dir, rot, b.swivel());
-  b.key(h).free_roll = 1;
+  b.key(h).point = 1;
   b.look_at(b.point_F("target"));
   b.push("prep", b.num("prep"));
   b.move("stroke", b.num("stroke"), h, S + (ext + k.palm_distance) * dir, rot);
   b.push("hold", b.num("hold"), true);
-  if (b.num("retract") > 0) b.key(h).free_roll = 0;
+  if (b.num("retract") > 0) b.key(h).point = 0;
   b.retract("retract", b.num("retract"), {h});
 }
 

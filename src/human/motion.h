@@ -84,8 +84,10 @@ struct HandKey {
   core::Vec3 palm = core::Vec3::Zero();      // palm centre in F, m
   core::Quat rotation = core::Quat::Identity();  // hand (wrist frame) rotation in F
   double swivel = 0;                          // rad (ArmTarget::swivel)
-  double free_roll = 0;                       // ArmTarget::free_roll (1 for pointing)
-  double grip = 0;                            // 0 open .. 1 closed
+  // HandShape: 1 while the hand points (its index straight; the arm's IK then leaves the roll
+  // about the pointing ray free, ArmTarget::free_roll), and 0 open .. 1 closed.
+  double point = 0;
+  double grip = 0;
   std::string holding;                        // object held at this key
 };
 struct BodyKey {

@@ -69,12 +69,21 @@ struct Skeleton {
   double bone_length(Joint joint) const { return offset[index(joint)].norm(); }
 };
 
+// The shape of one hand (docs/motion.md "Hands"): how far the fingers close and whether the
+// index points. human/hand.h turns it into the frames of the drawn fingers.
+struct HandShape {
+  double grip = 0;   // 0 = open (fingers almost straight) .. 1 = closed around an object
+  double point = 0;  // 0 .. 1 = the index straight, the other fingers and the thumb folded in
+  bool operator==(const HandShape&) const = default;
+};
+
 // One pose of the skeleton.
 struct SkeletonPose {
   core::Pose X_WP;  // pose of the pelvis frame in world
   // Rotation of each joint's frame relative to its parent's frame; identity = rest.
   // local[pelvis] is ignored (the root rotation is X_WP.rotation).
   std::array<core::Quat, kNumJoints> local;
+  std::array<HandShape, 2> hands{};  // [0] left, [1] right
 
   SkeletonPose();  // rest pose at the world origin, feet on z = 0 is NOT implied (X_WP = I)
   // Rest pose standing on the floor at (x, y), facing yaw_rad about +z.

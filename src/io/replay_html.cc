@@ -117,7 +117,7 @@ const char* geom_type_name(int type) {
 
 const char* category(const model::GeomTag& tag) {
   if (tag.is_robot()) return "robot";
-  if (tag.is_human()) return "human";
+  if (tag.is_human() || tag.owner == model::GeomOwner::kHumanHand) return "human";
   if (tag.owner == model::GeomOwner::kObject) return "object";
   return "scene";
 }

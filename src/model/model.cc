@@ -389,9 +389,13 @@ Generated generate(const SceneSpec& spec) {
   std::string key_mocap;
   if (h.present) {
     std::string mpos, mquat;
-    for (const Pose& X : X_WJ) {
+    const auto add = [&](const Pose& X) {
       mpos += mjcf::vec(X.translation) + " ";
       mquat += mjcf::quat(X.rotation) + " ";
+    };
+    for (const Pose& X : X_WJ) add(X);
+    for (const auto& hand : human::hand_part_poses(g.skeleton, g.human_start, X_WJ)) {
+      for (const Pose& X : hand) add(X);
     }
     mpos.pop_back();  // MuJoCo counts a trailing space as one more number
     mquat.pop_back();
@@ -506,6 +510,7 @@ std::string_view to_string(GeomOwner owner) {
     case GeomOwner::kRobotHand: return "robot_hand";
     case GeomOwner::kRobotFinger: return "robot_finger";
     case GeomOwner::kHuman: return "human";
+    case GeomOwner::kHumanHand: return "human_hand";
     case GeomOwner::kObject: return "object";
     case GeomOwner::kPlatform: return "platform";
   }
@@ -603,6 +608,7 @@ Model build(const SceneSpec& spec) {
   // Human.
   model.human_body.fill(-1);
   model.human_mocap.fill(-1);
+  for (auto& hand : model.human_hand_mocap) hand.fill(-1);
   model.has_human = model.spec.human.present;
   if (model.has_human) {
     model.skeleton = g.skeleton;
@@ -619,6 +625,12 @@ Model build(const SceneSpec& spec) {
     }
     for (const auto& c : model.human_capsules)
       model.human_capsule_geom.push_back(id_of(m, mjOBJ_GEOM, "human_" + std::string(c.name)));
+    for (const human::Side side : {human::Side::kLeft, human::Side::kRight}) {
+      for (int p = 0; p < human::kNumHandParts; ++p) {
+        const int body = id_of(m, mjOBJ_BODY, mjcf::human_hand_part_body(side, static_cast<human::HandPart>(p)));
+        model.human_hand_mocap[static_cast<size_t>(side)][static_cast<size_t>(p)] = m->body_mocapid[body];
+      }
+    }
   }
 
   // Objects.
@@ -655,6 +667,14 @@ Model build(const SceneSpec& spec) {
     by_body[model.objects[k].body] = {GeomOwner::kObject, static_cast<int>(k)};
     if (model.objects[k].lid_body >= 0)
       by_body[model.objects[k].lid_body] = {GeomOwner::kObject, static_cast<int>(k)};
+  }
+  if (model.has_human) {
+    for (const human::Side side : {human::Side::kLeft, human::Side::kRight}) {
+      for (int p = 0; p < human::kNumHandParts; ++p) {
+        const int body = id_of(m, mjOBJ_BODY, mjcf::human_hand_part_body(side, static_cast<human::HandPart>(p)));
+        by_body[body] = {GeomOwner::kHumanHand, static_cast<int>(side), human::BodyRegion::kHand, human::wrist(side)};
+      }
+    }
   }
   model.geom_tags.assign(static_cast<size_t>(m->ngeom), GeomTag{});
   for (int gid = 0; gid < m->ngeom; ++gid) {

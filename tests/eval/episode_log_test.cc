@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -40,6 +41,7 @@ EpisodeLog rich_log() {
   log.steps[6].lid_angles[1] = 1.0 / 7.0;
   log.steps[6].human_pose.X_WP.translation = core::Vec3(1.2, 0.1, 0.9);
   log.steps[6].human_pose.local[3] = core::Quat(0.8, 0.6, 0, 0);
+  log.steps[6].human_pose.hands[1] = {0.25, 1.0 / 3.0};
   log.events.back().detail = "grasped(robot, cube)";
   log.status = core::EpisodeStatus::kPolicyError;
   log.status_reason = "non_finite: action 0 value 1: nan";
@@ -81,6 +83,12 @@ TEST(EpisodeLog, IdenticalComparesEveryField) {
   EXPECT_FALSE(identical(log, other));  // w flipped from 1 to -0
   other = log;
   other.steps[6].human_pose.local[3].y() = 1e-300;
+  EXPECT_FALSE(identical(log, other));
+  other = log;
+  other.steps[6].human_pose.hands[1].point = std::nextafter(1.0 / 3.0, 1.0);
+  EXPECT_FALSE(identical(log, other));
+  other = log;
+  other.steps[6].human_pose.hands[0].grip = 1e-300;
   EXPECT_FALSE(identical(log, other));
   other = log;
   other.steps[6].lid_angles[1] = 0;
@@ -159,16 +167,16 @@ TEST(EpisodeLog, CorruptFileIsAClearError) {
     decode_episode_log(future, "f.hlog");
     FAIL();
   } catch (const core::InputError& e) {
-    EXPECT_STREQ(e.what(), "f.hlog: expected episode log format version 2, got format version 9");
+    EXPECT_STREQ(e.what(), "f.hlog: expected episode log format version 3, got format version 9");
   }
-  // A version-1 file (before actions, velocities and skeleton poses were logged).
+  // A version-2 file (before hand shapes were logged).
   std::string old = encode_episode_log(rich_log());
-  old[8] = 1;
+  old[8] = 2;
   try {
-    decode_episode_log(old, "v1.hlog");
+    decode_episode_log(old, "v2.hlog");
     FAIL();
   } catch (const core::InputError& e) {
-    EXPECT_STREQ(e.what(), "v1.hlog: expected episode log format version 2, got format version 1");
+    EXPECT_STREQ(e.what(), "v2.hlog: expected episode log format version 3, got format version 2");
   }
   std::string trailing = encode_episode_log(rich_log()) + "x";
   EXPECT_THROW(decode_episode_log(trailing, "t"), core::InputError);

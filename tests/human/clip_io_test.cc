@@ -147,7 +147,8 @@ TEST(ClipIoTest, MalformedCorpusGivesTheExpectedErrors) {
 }
 
 TEST(ClipIoTest, JsonRoundTripIsExact) {
-  const Clip clip = testing::synthetic_clip();
+  Clip clip = testing::synthetic_clip();
+  clip.frames[3].hands[0] = {0.75, 1.0 / 3.0};
   const Clip back = parse_clip_json(format_clip_json(clip), "clip.json");
   EXPECT_EQ(back.skeleton.height, clip.skeleton.height);
   EXPECT_EQ(back.fps, clip.fps);
@@ -161,6 +162,7 @@ TEST(ClipIoTest, JsonRoundTripIsExact) {
     for (size_t j = 1; j < clip.frames[f].local.size(); ++j) {
       EXPECT_TRUE(back.frames[f].local[j].isApprox(clip.frames[f].local[j], 1e-15));
     }
+    EXPECT_EQ(back.frames[f].hands, clip.frames[f].hands);
   }
   EXPECT_LT(testing::max_joint_error(clip, back), 1e-12);
 }
@@ -175,6 +177,32 @@ TEST(ClipIoTest, JsonErrorsNameTheKeyPath) {
     EXPECT_EQ(e.where(), "c.json: fps");
     EXPECT_EQ(e.expected(), "a number");
   }
+}
+
+// Hand shapes are optional (a converted motion-capture clip has none) and within [0, 1].
+TEST(ClipIoTest, HandShapesAreOptionalAndChecked) {
+  Clip clip = testing::synthetic_clip();
+  clip.frames[0].hands[1] = {0, 1};
+  std::string text = format_clip_json(clip);
+  const std::string shape = R"({"grip":0.0,"point":1.0})";
+  ASSERT_NE(text.find(shape), std::string::npos);
+  std::string wrong = text;
+  wrong.replace(wrong.find(shape), shape.size(), R"({"grip":0.0,"point":1.5})");
+  try {
+    parse_clip_json(wrong, "c.json");
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_STREQ(e.what(), "c.json: frames[0].hands[1].point: expected a number in [0, 1], got 1.5");
+  }
+  // Without "hands", frames have open hands.
+  std::string none = text;
+  // Keys are written in order ("hands", "local", "root"): drop each `"hands":[...],`.
+  for (size_t at = none.find(R"("hands":)"); at != std::string::npos; at = none.find(R"("hands":)")) {
+    none.erase(at, none.find("]", at) + 2 - at);
+  }
+  const Clip back = parse_clip_json(none, "c.json");
+  EXPECT_EQ(back.frames[0].hands[1], (HandShape{}));
+  EXPECT_LT(testing::max_joint_error(clip, back), 1e-12);
 }
 
 TEST(ClipIoTest, HumanMl3dRoundTripReproducesJointPositions) {

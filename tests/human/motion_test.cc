@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -210,6 +211,35 @@ TEST(MotionTest, PointingRayPassesThroughTheTargetDuringTheHold) {
       }
     }
   }
+}
+
+// The hand shape follows the keys (docs/motion.md "Hands"): the pointing hand points from the
+// preparation through the hold and opens again as it retracts; a holding hand is closed; the
+// other hand stays open.
+TEST(MotionTest, HandShapesPointAndGripAsTheKeysSay) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  const MotionPlan point = plan_motion(k, standing(k), example("point"));
+  const auto timeline = point.timeline({});
+  // 0.1 s into a phase (a waiting phase without its signal never ends).
+  const auto at = [](const std::vector<Phase>& phases, const std::string& name) {
+    const auto it = std::find_if(phases.begin(), phases.end(), [&](const Phase& p) { return p.name == name; });
+    return it->start + 0.1;
+  };
+  EXPECT_EQ(point.pose_at(0).hands[1], (HandShape{0, 0}));
+  EXPECT_EQ(point.pose_at(at(timeline, "hold")).hands[1], (HandShape{0, 1}));
+  EXPECT_EQ(point.pose_at(at(timeline, "hold")).hands[0], (HandShape{0, 0}));
+  const double prep = point.pose_at(at(timeline, "prep")).hands[1].point;
+  EXPECT_GT(prep, 0);
+  EXPECT_LT(prep, 1);
+  EXPECT_EQ(point.pose_at(point.nominal_duration(), {{"hold", 0}}).hands[1], (HandShape{0, 0}));
+
+  const MotionPlan offer = plan_motion(k, standing(k), example("offer", "left"));
+  const auto offered = offer.timeline({});
+  EXPECT_EQ(offer.pose_at(at(offered, "hold_stable")).hands[0], (HandShape{1, 0}));
+  EXPECT_EQ(offer.pose_at(at(offered, "hold_stable")).hands[1], (HandShape{0, 0}));
+  // A clip keeps the shapes, interpolated between frames.
+  const LabelledClip lc = offer.to_clip(30);
+  EXPECT_EQ(lc.clip.pose_at(at(offered, "hold_stable")).hands[0], (HandShape{1, 0}));
 }
 
 TEST(MotionTest, TheHeadLooksAtThePointedTarget) {

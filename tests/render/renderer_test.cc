@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <link.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -323,6 +324,40 @@ TEST_F(DefaultSceneTest, ThreadsDrawVideoFramesAtOnce) {
   }
   for (std::thread& thread : threads) thread.join();
   for (const Image& image : images) EXPECT_EQ(image.rgb, reference.rgb);
+}
+
+// The drawn hands (human/hand.h) at the resolution policies use: seen by agentview at 224², with
+// a silhouette that changes with the hand's shape; the hands' contact capsules are not drawn.
+TEST_F(DefaultSceneTest, AgentviewSeesTheHandShapes) {
+  const auto hand_pixels = [&](const human::HandShape& shape, int size) {
+    human::SkeletonPose pose = model_.human_start;
+    pose.hands = {shape, shape};
+    sim::set_human_pose(model_, data_, pose);
+    sim::forward(model_, data_);
+    auto renderer = make_renderer(Backend::kOsmesa, *model_.m(), size, size);
+    SegmentationImage segmentation;
+    EXPECT_TRUE(renderer->render_segmentation(*model_.m(), *data_.mj, model_.agentview_camera, segmentation));
+    std::vector<bool> mask;
+    for (const int g : segmentation.geom) {
+      const model::GeomTag tag = g >= 0 ? model_.geom_tags[static_cast<size_t>(g)] : model::GeomTag{};
+      EXPECT_FALSE(tag.is_human() && tag.region == human::BodyRegion::kHand) << "a contact capsule drawn";
+      mask.push_back(tag.owner == model::GeomOwner::kHumanHand);
+    }
+    return mask;
+  };
+  const auto count = [](const std::vector<bool>& mask) { return std::count(mask.begin(), mask.end(), true); };
+  const auto differ = [](const std::vector<bool>& a, const std::vector<bool>& b) {
+    long n = 0;
+    for (size_t i = 0; i < a.size(); ++i) n += a[i] != b[i] ? 1 : 0;
+    return n;
+  };
+  EXPECT_GT(count(hand_pixels({0, 0}, 224)), 40);
+  const auto open = hand_pixels({0, 0}, 448);
+  const auto closed = hand_pixels({1, 0}, 448);
+  const auto pointing = hand_pixels({0, 1}, 448);
+  EXPECT_GT(differ(open, closed), count(open) / 5);
+  EXPECT_GT(differ(open, pointing), count(open) / 5);
+  EXPECT_GT(differ(closed, pointing), count(closed) / 10);
 }
 
 }  // namespace
