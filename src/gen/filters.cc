@@ -1,9 +1,9 @@
 #include "gen/filters.h"
 
 #include <algorithm>
-#include <iterator>
 #include <cmath>
 #include <exception>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <set>

@@ -84,8 +84,9 @@ struct HandKey {
   core::Vec3 palm = core::Vec3::Zero();      // palm centre in F, m
   core::Quat rotation = core::Quat::Identity();  // hand (wrist frame) rotation in F
   double swivel = 0;                          // rad (ArmTarget::swivel)
-  // HandShape: 1 while the hand points (its index straight; the arm's IK then leaves the roll
-  // about the pointing ray free, ArmTarget::free_roll), and 0 open .. 1 closed.
+  // The hand's shape (HandShape): `point` is 1 while the hand points (its index straight; the
+  // arm's IK then leaves the roll about the pointing ray free, ArmTarget::free_roll); `grip`
+  // goes from 0 (open) to 1 (closed).
   double point = 0;
   double grip = 0;
   std::string holding;                        // object held at this key
