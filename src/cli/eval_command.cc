@@ -15,7 +15,8 @@
 // (io/episode_video.h, docs/videos.md); --video-cameras agentview,wrist puts the wrist camera
 // beside agentview. Videos do not change results and are not among the run's options.
 // With --shard i/N only every N-th job runs and the options record the shard; `hribench merge`
-// combines the N folders (eval/shard.h, docs/scale.md).
+// combines the N folders (eval/shard.h, docs/scale.md). Under `mpirun -np N` rank 0 hands the
+// episodes out to the other ranks' threads and writes everything (eval/ranks.h).
 // The run itself is the library's (gen/evaluation.h, eval/run.h), shared with Python's
 // hribench.evaluate: one instance of each policy per worker thread, reset for every episode.
 // A remote policy that cannot connect for remote::kMaxConnectFailures episodes in a row stops
@@ -29,6 +30,7 @@
 #include "cli/command.h"
 #include "core/errors.h"
 #include "eval/episode_files.h"
+#include "eval/ranks.h"
 #include "eval/report.h"
 #include "eval/run.h"
 #include "gen/evaluation.h"
@@ -86,6 +88,7 @@ int run_eval(const gen::EvalRequest& o, const VideoRequest& video) {
     std::fprintf(stderr, "\nhribench eval: stopped: %s\n", stopped.what());
     return 1;
   }
+  if (eval::mpi_ranks().rank != 0) return 0;  // under mpirun, rank 0 reports (eval/ranks.h)
   if (progressed) {
     std::fprintf(stderr, "\n");
   } else {

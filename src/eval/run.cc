@@ -15,10 +15,12 @@
 
 #include "core/errors.h"
 #include "core/files.h"
+#include "core/json.h"
 #include "core/log.h"
 #include "eval/episode_files.h"
 #include "eval/metrics.h"
 #include "eval/parallel.h"
+#include "eval/ranks.h"
 #include "eval/task_episode.h"
 #include "script/sample.h"
 
@@ -178,20 +180,16 @@ std::vector<EpisodeResult> prepare_out(const RunSettings& s, const nlohmann::jso
   return finished;
 }
 
-}  // namespace
+// Every job of the plan in (task, policy, episode) order (a shard's: every N-th), with the order
+// in which they are handed out: episode by episode, the policies of an episode one after
+// another (each worker keeps the scene it ran last).
+struct JobList {
+  std::vector<Job> jobs;
+  std::vector<std::array<size_t, 3>> hand_out;  // per job: (task, episode, policy)
+};
 
-RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const PolicyMaker& make,
-                    const std::function<void(const RunProgress&)>& progress) {
-  const std::vector<EpisodeResult> finished = prepare_out(settings, plan.options);
-  std::map<std::string, EpisodeResult> by_key;
-  for (const EpisodeResult& r : finished) by_key.emplace(episode_key(r), r);
-
-  // Jobs in (task, policy, episode) order (a shard's: every N-th); those already finished are
-  // skipped. They are handed to the workers episode by episode, the policies of an episode one
-  // after another (each worker keeps the scene it ran last), in `todo`.
-  std::vector<Job> all_jobs;
-  std::vector<size_t> todo;
-  std::vector<std::array<size_t, 3>> hand_out;  // per job: (task, episode, policy), the hand-out order
+JobList plan_jobs(const RunPlan& plan) {
+  JobList list;
   size_t job_number = 0;
   for (size_t task = 0; task < plan.by_task.size(); ++task) {
     const std::vector<script::EpisodeSpec>& specs = plan.by_task[task];
@@ -208,13 +206,49 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
         job.hash = script::spec_hash(spec);
         job.policy = p;
         job.key = episode_key(spec.task, p, job.hash, spec.seed);
-        if (by_key.count(job.key) == 0) todo.push_back(all_jobs.size());
-        hand_out.push_back({task, episode, policy_index});
-        all_jobs.push_back(std::move(job));
+        list.hand_out.push_back({task, episode, policy_index});
+        list.jobs.push_back(std::move(job));
       }
     }
   }
-  std::stable_sort(todo.begin(), todo.end(), [&](size_t a, size_t b) { return hand_out[a] < hand_out[b]; });
+  return list;
+}
+
+}  // namespace
+
+RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const PolicyMaker& make,
+                    const std::function<void(const RunProgress&)>& progress) {
+  // Under mpirun the ranks other than 0 only run the episodes rank 0 hands them (eval/ranks.h).
+  const Ranks ranks = mpi_ranks();
+  if (ranks.distributed() && ranks.rank != 0) {
+    const JobList list = plan_jobs(plan);
+    std::vector<Worker> workers(static_cast<size_t>(settings.threads));
+    serve_jobs(settings.threads, [&](size_t job, int worker) {
+      return episode_to_json(run_one(list.jobs.at(job), settings, workers[static_cast<size_t>(worker)], make)).dump();
+    });
+    return RunResults{};
+  }
+  // Under mpirun the other ranks wait for jobs: if anything fails before they are handed out
+  // (another run in --out, say), they are told there are none, so that every rank ends.
+  struct ReleaseWorkersOnError {
+    bool armed;
+    int threads;
+    ~ReleaseWorkersOnError() {
+      if (armed) hand_out_jobs({}, threads, [] { return true; }, [](size_t, std::string_view) {});
+    }
+  } release{ranks.distributed(), settings.threads};
+  const std::vector<EpisodeResult> finished = prepare_out(settings, plan.options);
+  std::map<std::string, EpisodeResult> by_key;
+  for (const EpisodeResult& r : finished) by_key.emplace(episode_key(r), r);
+
+  // The jobs not finished yet, in hand-out order.
+  const JobList list = plan_jobs(plan);
+  const std::vector<Job>& all_jobs = list.jobs;
+  std::vector<size_t> todo;
+  for (size_t j = 0; j < all_jobs.size(); ++j) {
+    if (by_key.count(all_jobs[j].key) == 0) todo.push_back(j);
+  }
+  std::stable_sort(todo.begin(), todo.end(), [&](size_t a, size_t b) { return list.hand_out[a] < list.hand_out[b]; });
 
   // Run, appending each episode as it finishes.
   const fs::path lines_file = settings.out / "episodes.jsonl";
@@ -234,23 +268,34 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
   std::vector<EpisodeResult> unreachable;  // in a row, held back
   std::atomic<bool> stop{false};
   std::vector<EpisodeResult> results;
+  const auto finish = [&](size_t, const EpisodeResult& result) {
+    if (settings.unreachable && settings.unreachable(result)) {
+      unreachable.push_back(result);
+      if (static_cast<int>(unreachable.size()) >= settings.max_unreachable) stop = true;
+      return;
+    }
+    for (const EpisodeResult& held : unreachable) append(held);
+    unreachable.clear();
+    append(result);
+  };
   try {
-    results = run_jobs(
-        todo.size(), settings.threads,
-        [&](size_t job, int worker) {
-          if (stop) throw RunStopped("stopped");
-          return run_one(all_jobs[todo[job]], settings, workers[static_cast<size_t>(worker)], make);
-        },
-        [&](size_t, const EpisodeResult& result) {
-          if (settings.unreachable && settings.unreachable(result)) {
-            unreachable.push_back(result);
-            if (static_cast<int>(unreachable.size()) >= settings.max_unreachable) stop = true;
-            return;
-          }
-          for (const EpisodeResult& held : unreachable) append(held);
-          unreachable.clear();
-          append(result);
-        });
+    if (ranks.distributed()) {
+      release.armed = false;
+      results.resize(todo.size());
+      hand_out_jobs(todo, settings.threads, [&] { return stop.load(); }, [&](size_t job, std::string_view line) {
+        const std::string where = "the episode line of " + all_jobs[todo[job]].key;
+        results[job] = episode_from_json(core::parse_json(line, where), where);
+        finish(job, results[job]);
+      });
+    } else {
+      results = run_jobs(
+          todo.size(), settings.threads,
+          [&](size_t job, int worker) {
+            if (stop) throw RunStopped("stopped");
+            return run_one(all_jobs[todo[job]], settings, workers[static_cast<size_t>(worker)], make);
+          },
+          finish);
+    }
   } catch (const RunStopped&) {
     if (!stop) throw;
   }

@@ -7,6 +7,10 @@
 // seeds) or forced, and an episode pool's folder (or a file) is refused outright. The run `hribench eval` and Python's
 // hribench.evaluate make (gen/evaluation.h builds the plan from their options).
 //
+// Under mpirun with several ranks (eval/ranks.h) rank 0 prepares OUT, hands the jobs out to the
+// worker threads of the other ranks and writes every file but the logs and videos, which the
+// rank that ran the episode writes; the other ranks return no results.
+//
 // Reuse: each worker thread makes one instance of each policy (PolicyMaker) for the whole run
 // and resets it for every episode (Policy::reset), and keeps the EpisodeScene (model, Data,
 // renderers; eval/episode.h) of the episode it ran last. Jobs are handed out episode by

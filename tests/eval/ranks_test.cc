@@ -1,0 +1,156 @@
+// Runs over MPI ranks (eval/ranks.h, docs/scale.md "MPI"): `mpirun --oversubscribe -np 3` on
+// this machine gives the single process's run byte for byte, and a rank that dies loses only
+// the episodes it had in flight, which --resume runs again.
+
+#include "eval/ranks.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+
+#include "support/run_command.h"
+#include "support/test_files.h"
+
+extern char** environ;
+
+namespace hribench::eval {
+namespace {
+
+namespace fs = std::filesystem;
+using ::hribench::testing::read_text;
+using ::hribench::testing::run_hribench;
+using ::hribench::testing::run_shell;
+
+// mpirun on one machine, as root if need be (CI), without a remote-login agent (none is
+// needed on one machine; Open MPI refuses to start when ssh is missing unless told so).
+const std::string kMpirun =
+    "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false "
+    "mpirun --oversubscribe --bind-to none -np 3 ";
+
+const std::string kEval =
+    "eval --tasks I1,I4,X1 --policy noop,reactive --episodes 3 --seed 2 --horizon 4 --threads 2 --out ";
+
+std::string lines_sorted(const fs::path& file) {
+  std::istringstream in(read_text(file));
+  std::multiset<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.insert(line);
+  std::string out;
+  for (const std::string& line : lines) out += line + "\n";
+  return out;
+}
+
+TEST(Ranks, OutsideMpirunThereIsOneRankAndMpiIsNotStarted) {
+  const Ranks ranks = mpi_ranks();
+  EXPECT_EQ(ranks.rank, 0);
+  EXPECT_EQ(ranks.size, 1);
+  EXPECT_FALSE(ranks.distributed());
+  int initialized = 1;
+  MPI_Initialized(&initialized);
+  EXPECT_EQ(initialized, 0);
+}
+
+TEST(Ranks, ThreeRanksWriteTheSingleProcessRunByteForByte) {
+  const fs::path root = ::hribench::testing::temp_dir("ranks", "equal");
+  const auto one = run_hribench(kEval + (root / "one").string() + " --save-logs");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  const auto three = run_shell(kMpirun + HRIBENCH_BINARY + " " + kEval + (root / "three").string() + " --save-logs");
+  ASSERT_EQ(three.exit_code, 0) << three.output;
+  for (const char* file : {"options.json", "results.json", "summary.md", "summary.csv"}) {
+    EXPECT_EQ(read_text(root / "three" / file), read_text(root / "one" / file)) << file;
+  }
+  // The journal holds the same episodes (in completion order).
+  EXPECT_EQ(lines_sorted(root / "three" / "episodes.jsonl"), lines_sorted(root / "one" / "episodes.jsonl"));
+  size_t logs = 0;
+  for (const auto& entry : fs::directory_iterator(root / "one" / "logs")) {
+    ++logs;
+    const fs::path other = root / "three" / "logs" / entry.path().filename();
+    ASSERT_TRUE(fs::exists(other)) << other;
+    EXPECT_EQ(read_text(other), read_text(entry.path())) << entry.path().filename();
+  }
+  EXPECT_EQ(logs, 18u);
+  // Rank 0 alone reports.
+  EXPECT_NE(three.output.find("# HRIBench results"), std::string::npos) << three.output;
+  EXPECT_EQ(three.output.find("# HRIBench results"), three.output.rfind("# HRIBench results")) << three.output;
+  fs::remove_all(root);
+}
+
+TEST(Ranks, ARefusedRunEndsEveryRank) {
+  const fs::path root = ::hribench::testing::temp_dir("ranks", "refused");
+  fs::create_directories(root / "run");
+  std::ofstream(root / "run" / "episodes.jsonl") << "";
+  // The folder holds a run: rank 0 refuses it, and the waiting ranks end too (no hang).
+  const auto refused = run_shell("timeout 60 env " + kMpirun + HRIBENCH_BINARY + " " + kEval + (root / "run").string());
+  EXPECT_NE(refused.exit_code, 0);
+  EXPECT_NE(refused.exit_code, 124) << "mpirun hung: " << refused.output;
+  EXPECT_NE(refused.output.find("already holds a run; use --resume to continue it or --force to replace it"),
+            std::string::npos)
+      << refused.output;
+  fs::remove_all(root);
+}
+
+// The process of rank `rank` among the children of mpirun `parent`, or -1.
+pid_t rank_process(pid_t parent, int rank) {
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream stat(entry.path() / "stat");
+    std::string pid, comm, state;
+    pid_t ppid = 0;
+    if (!(stat >> pid >> comm >> state >> ppid) || ppid != parent) continue;
+    std::ifstream environment(entry.path() / "environ", std::ios::binary);
+    const std::string env((std::istreambuf_iterator<char>(environment)), std::istreambuf_iterator<char>());
+    if (env.find("OMPI_COMM_WORLD_RANK=" + std::to_string(rank) + '\0') != std::string::npos) return std::stoi(name);
+  }
+  return -1;
+}
+
+TEST(Ranks, ARankThatDiesLosesOnlyItsEpisodesInFlightAndAResumeRedoesThem) {
+  const fs::path root = ::hribench::testing::temp_dir("ranks", "death");
+  ASSERT_EQ(run_hribench(kEval + (root / "whole").string()).exit_code, 0);
+  const fs::path dir = root / "killed";
+  const std::string line = "exec env " + kMpirun + HRIBENCH_BINARY + " " + kEval + dir.string() + " >/dev/null 2>&1";
+  const char* argv[] = {"/bin/sh", "-c", line.c_str(), nullptr};
+  pid_t mpirun = 0;
+  ASSERT_EQ(posix_spawn(&mpirun, "/bin/sh", nullptr, nullptr, const_cast<char* const*>(argv), environ), 0);
+  // Once two episodes are in, kill rank 1 (its episodes in flight are lost); mpirun ends the rest.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  bool killed = false;
+  int status = 0;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (waitpid(mpirun, &status, WNOHANG) == mpirun) break;
+    const fs::path lines = dir / "episodes.jsonl";
+    if (!killed && fs::exists(lines) && ::hribench::testing::count_lines(read_text(lines)) >= 2) {
+      const pid_t rank1 = rank_process(mpirun, 1);
+      if (rank1 > 0) killed = kill(rank1, SIGKILL) == 0;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (!killed) waitpid(mpirun, &status, 0);
+  ASSERT_TRUE(killed) << "the run ended before rank 1 could be killed";
+  EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "mpirun reported success after a rank died";
+  const int written = ::hribench::testing::count_lines(read_text(dir / "episodes.jsonl"));
+  EXPECT_GE(written, 2);
+  EXPECT_LT(written, 18);
+  const auto resumed = run_shell(kMpirun + HRIBENCH_BINARY + " " + kEval + dir.string() + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_EQ(read_text(dir / "results.json"), read_text(root / "whole" / "results.json"));
+  EXPECT_EQ(lines_sorted(dir / "episodes.jsonl"), lines_sorted(root / "whole" / "episodes.jsonl"));
+  fs::remove_all(root);
+}
+
+}  // namespace
+}  // namespace hribench::eval
