@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cli/command.h"
+#include "eval/ranks.h"
 #include "eval/shard.h"
 #include "gen/generate.h"
 #include "gen/pool.h"
@@ -44,6 +45,7 @@ int run_generate(const GenerateArgs& a) {
   o.progress = !a.quiet;
   if (!a.shard.empty()) o.shard = eval::parse_shard(a.shard, "--shard");
   const gen::GenerationReport report = gen::generate(o);
+  if (eval::mpi_ranks().rank != 0) return 0;  // under mpirun, rank 0 reports (eval/ranks.h)
   if (o.shard) {
     std::printf("hribench generate: shard %s of the candidates judged in %s; combine the %d folders with "
                 "hribench merge OUT SHARD_DIR...\n",

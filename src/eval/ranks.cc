@@ -104,6 +104,12 @@ void hand_out_jobs(const std::vector<size_t>& job_ids, int threads_per_rank, con
   if (error) std::rethrow_exception(error);
 }
 
+ReleaseWorkersOnError::~ReleaseWorkersOnError() {
+  if (armed_ && mpi_ranks().distributed()) {
+    hand_out_jobs({}, threads_, [] { return true; }, [](size_t, std::string_view) {});
+  }
+}
+
 void serve_jobs(int threads, const std::function<std::string(size_t job_id, int worker)>& run) {
   std::vector<std::thread> workers;
   for (int t = 0; t < threads; ++t) {

@@ -42,6 +42,23 @@ Ranks mpi_ranks();
 void hand_out_jobs(const std::vector<size_t>& job_ids, int threads_per_rank, const std::function<bool()>& stop,
                    const std::function<void(size_t, std::string_view reply)>& done);
 
+// Rank 0 of a distributed run: until disarmed, its destruction tells every worker thread of the
+// other ranks that there is nothing to run, so that a run that fails before its hand-out (another
+// run in --out, say) ends every rank instead of leaving them waiting. Does nothing outside
+// mpirun.
+class ReleaseWorkersOnError {
+ public:
+  explicit ReleaseWorkersOnError(int threads_per_rank) : threads_(threads_per_rank) {}
+  ReleaseWorkersOnError(const ReleaseWorkersOnError&) = delete;
+  ReleaseWorkersOnError& operator=(const ReleaseWorkersOnError&) = delete;
+  ~ReleaseWorkersOnError();
+  void disarm() { armed_ = false; }
+
+ private:
+  int threads_;
+  bool armed_ = true;
+};
+
 // Ranks 1..N-1: `threads` worker threads ask rank 0 for jobs and run them as run(job id,
 // worker index), whose value is the job's reply, until told there are none.
 void serve_jobs(int threads, const std::function<std::string(size_t job_id, int worker)>& run);

@@ -228,15 +228,7 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
     });
     return RunResults{};
   }
-  // Under mpirun the other ranks wait for jobs: if anything fails before they are handed out
-  // (another run in --out, say), they are told there are none, so that every rank ends.
-  struct ReleaseWorkersOnError {
-    bool armed;
-    int threads;
-    ~ReleaseWorkersOnError() {
-      if (armed) hand_out_jobs({}, threads, [] { return true; }, [](size_t, std::string_view) {});
-    }
-  } release{ranks.distributed(), settings.threads};
+  ReleaseWorkersOnError release(settings.threads);
   const std::vector<EpisodeResult> finished = prepare_out(settings, plan.options);
   std::map<std::string, EpisodeResult> by_key;
   for (const EpisodeResult& r : finished) by_key.emplace(episode_key(r), r);
@@ -280,7 +272,7 @@ RunResults run_plan(const RunPlan& plan, const RunSettings& settings, const Poli
   };
   try {
     if (ranks.distributed()) {
-      release.armed = false;
+      release.disarm();
       results.resize(todo.size());
       hand_out_jobs(todo, settings.threads, [&] { return stop.load(); }, [&](size_t job, std::string_view line) {
         const std::string where = "the episode line of " + all_jobs[todo[job]].key;

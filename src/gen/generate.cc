@@ -17,6 +17,7 @@
 #include "core/files.h"
 #include "core/paths.h"
 #include "core/version.h"
+#include "eval/ranks.h"
 #include "policy/registry.h"
 #include "script/check.h"
 #include "script/sample.h"
@@ -296,18 +297,34 @@ GenerationReport generate(const GenerateOptions& o) {
     }
   }
   const core::Json generator = generator_json(o, names);
+  // Every (task, candidate) of the generation (a shard's: every N-th), and how to judge one.
+  std::vector<std::pair<size_t, size_t>> jobs;
+  for (size_t t = 0; t < names.size(); ++t) {
+    for (size_t i = 0; i < o.candidates; ++i) {
+      if (!o.shard || o.shard->owns(t * o.candidates + i)) jobs.emplace_back(t, i);
+    }
+  }
+  const auto judge = [&](size_t job) {
+    const auto [t, i] = jobs[job];
+    return judge_candidate(scenarios[t], names[t], i, o.seed, o.robot, o.filters);
+  };
+  // Under mpirun the ranks other than 0 only judge the candidates rank 0 hands them
+  // (eval/ranks.h), and return no report.
+  const eval::Ranks ranks = eval::mpi_ranks();
+  if (ranks.distributed() && ranks.rank != 0) {
+    eval::serve_jobs(o.threads, [&](size_t job, int) { return core::canonical_json(to_json(judge(job))); });
+    return GenerationReport{};
+  }
+  eval::ReleaseWorkersOnError release(o.threads);
   const std::vector<CandidateRecord> finished =
       prepare_out(o, options_json(o, generator, names.size() * o.candidates));
 
   // Judge every candidate not judged before; append each as it finishes.
   std::map<std::string, CandidateRecord> by_key;
   for (const CandidateRecord& r : finished) by_key.emplace(key(r.task, r.index), r);
-  std::vector<std::pair<size_t, size_t>> todo;  // (task, candidate)
-  for (size_t t = 0; t < names.size(); ++t) {
-    for (size_t i = 0; i < o.candidates; ++i) {
-      if (o.shard && !o.shard->owns(t * o.candidates + i)) continue;
-      if (by_key.count(key(names[t], i)) == 0) todo.emplace_back(t, i);
-    }
+  std::vector<size_t> todo;  // into jobs
+  for (size_t j = 0; j < jobs.size(); ++j) {
+    if (by_key.count(key(names[jobs[j].first], jobs[j].second)) == 0) todo.push_back(j);
   }
   const fs::path lines_file = fs::path(o.out) / "candidates.jsonl";
   std::ofstream lines(lines_file, std::ios::app | std::ios::binary);
@@ -315,25 +332,30 @@ GenerationReport generate(const GenerateOptions& o) {
   size_t done = 0, validated = 0;
   for (const CandidateRecord& r : finished) validated += r.failed ? 0 : 1;
   const size_t all = o.shard ? eval::shard_share(names.size() * o.candidates, *o.shard) : names.size() * o.candidates;
-  run_parallel(
-      todo.size(), o.threads,
-      [&](size_t job) {
-        const auto [t, i] = todo[job];
-        return judge_candidate(scenarios[t], names[t], i, o.seed, o.robot, o.filters);
-      },
-      [&](size_t, const CandidateRecord& r) {
-        lines << core::canonical_json(to_json(r)) << "\n" << std::flush;
-        by_key.emplace(key(r.task, r.index), r);
-        ++done;
-        validated += r.failed ? 0 : 1;
-        if (!o.progress) return;
-        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0;
-        const double eta = rate > 0 ? static_cast<double>(todo.size() - done) / rate : 0;
-        std::fprintf(stderr, "\rhribench generate: %zu/%zu candidates (%zu resumed), %zu validated, %.2f/s, ETA %.0f s ",
-                     done + finished.size(), all, finished.size(), validated, rate, eta);
-        std::fflush(stderr);
-      });
+  const auto judged = [&](const CandidateRecord& r) {
+    lines << core::canonical_json(to_json(r)) << "\n" << std::flush;
+    by_key.emplace(key(r.task, r.index), r);
+    ++done;
+    validated += r.failed ? 0 : 1;
+    if (!o.progress) return;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0;
+    const double eta = rate > 0 ? static_cast<double>(todo.size() - done) / rate : 0;
+    std::fprintf(stderr, "\rhribench generate: %zu/%zu candidates (%zu resumed), %zu validated, %.2f/s, ETA %.0f s ",
+                 done + finished.size(), all, finished.size(), validated, rate, eta);
+    std::fflush(stderr);
+  };
+  if (ranks.distributed()) {
+    release.disarm();
+    eval::hand_out_jobs(todo, o.threads, [] { return false; }, [&](size_t job, std::string_view line) {
+      const auto [t, i] = jobs[todo[job]];
+      const std::string where = fmt::format("candidate {} of {}", i, names[t]);
+      judged(candidate_from_json(core::parse_json(line, where), where));
+    });
+  } else {
+    run_parallel(todo.size(), o.threads, [&](size_t job) { return judge(todo[job]); },
+                 [&](size_t, const CandidateRecord& r) { judged(r); });
+  }
   lines.close();
   if (o.progress && !todo.empty()) std::fprintf(stderr, "\n");
 

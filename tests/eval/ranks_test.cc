@@ -1,6 +1,7 @@
 // Runs over MPI ranks (eval/ranks.h, docs/scale.md "MPI"): `mpirun --oversubscribe -np 3` on
-// this machine gives the single process's run byte for byte, and a rank that dies loses only
-// the episodes it had in flight, which --resume runs again.
+// this machine gives the single process's evaluation and generation byte for byte, a run
+// refused by rank 0 ends every rank, and a rank that dies loses only the episodes it had in
+// flight, which --resume runs again.
 
 #include "eval/ranks.h"
 
@@ -85,6 +86,32 @@ TEST(Ranks, ThreeRanksWriteTheSingleProcessRunByteForByte) {
   // Rank 0 alone reports.
   EXPECT_NE(three.output.find("# HRIBench results"), std::string::npos) << three.output;
   EXPECT_EQ(three.output.find("# HRIBench results"), three.output.rfind("# HRIBench results")) << three.output;
+  fs::remove_all(root);
+}
+
+TEST(Ranks, ThreeRanksGenerateTheSingleProcessPoolByteForByte) {
+  const fs::path root = ::hribench::testing::temp_dir("ranks", "generate");
+  const std::string generate =
+      "generate --tasks I1,I4 --candidates 8 --adapt 2 --eval 1 --test 1 --seed 3 --executable-by none --threads 2 "
+      "--quiet --out ";
+  const auto one = run_hribench(generate + (root / "one").string());
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  const auto three = run_shell(kMpirun + HRIBENCH_BINARY + " " + generate + (root / "three").string());
+  ASSERT_EQ(three.exit_code, 0) << three.output;
+  size_t files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(root / "one")) {
+    if (!entry.is_regular_file()) continue;
+    ++files;
+    const fs::path relative = fs::relative(entry.path(), root / "one");
+    const fs::path other = root / "three" / relative;
+    ASSERT_TRUE(fs::exists(other)) << other;
+    if (relative == "candidates.jsonl") {  // in completion order
+      EXPECT_EQ(lines_sorted(other), lines_sorted(entry.path()));
+    } else {
+      EXPECT_EQ(read_text(other), read_text(entry.path())) << relative;
+    }
+  }
+  EXPECT_GE(files, 5u);  // options, candidates, manifest, reports, episodes
   fs::remove_all(root);
 }
 
