@@ -27,7 +27,7 @@ cd "$root"
 failed=()
 for t in "${tests[@]}"; do
   echo "== $t"
-  "$build/$t" "$@" || failed+=("$t")
+  "$build/tests/$t" "$@" || failed+=("$t")
 done
 if [ ${#failed[@]} -gt 0 ]; then
   echo "failed under ASan/UBSan: ${failed[*]}"

@@ -415,7 +415,7 @@ TEST(MotionTest, HandsReachTheirTargets) {
     SCOPED_TRACE(name);
     const PrimitiveParams p = example(name, "right");
     const MotionPlan plan = plan_motion(k, standing(k), p);
-    const Phase& main = plan.timeline({{"hold", 0}})[0];
+    const Phase main = plan.timeline({{"hold", 0}})[0];  // a copy: the timeline is a temporary
     const Vec3 palm = hand_point(k, plan.pose_at(main.end, {{"hold", 0}}), Side::kRight, HandPoint::kPalm);
     EXPECT_LT((palm - p.points.at("target")).norm(), 1e-6);
   }
