@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
-#include <iterator>
 #include <limits>
 #include <memory>
 #include <set>
@@ -230,13 +229,8 @@ bool visible(const model::Model& model, const sim::Data& data, const Vec3& p_W, 
   const Vec3 ray = p_W - view.p_WC;
   mjtNum pnt[3] = {view.p_WC.x(), view.p_WC.y(), view.p_WC.z()};
   mjtNum vec[3] = {ray.x(), ray.y(), ray.z()};
-  // Every geom group but the drawn hands' (model::kDrawnHandGroup): hands are judged by their
-  // contact capsules.
-  mjtByte groups[mjNGROUP];
-  std::fill(std::begin(groups), std::end(groups), mjtByte{1});
-  groups[model::kDrawnHandGroup] = 0;
   int geom = -1;
-  const mjtNum hit = mj_ray(&m, &d, pnt, vec, groups, 1, -1, &geom);
+  const mjtNum hit = mj_ray(&m, &d, pnt, vec, nullptr, 1, -1, &geom);
   if (geom < 0 || hit >= 0.999 || accepts(geom)) return true;
   why = fmt::format("hidden behind '{}'", mj_id2name(&m, mjOBJ_GEOM, geom) != nullptr
                                                ? mj_id2name(&m, mjOBJ_GEOM, geom)

@@ -22,6 +22,7 @@
 #include "eval/report.h"
 #include "eval/script_driver.h"
 #include "gen/pool.h"
+#include "human/hand.h"
 #include "script/check.h"
 #include "script/sample.h"
 #include "script/scenario.h"
@@ -117,7 +118,7 @@ const char* geom_type_name(int type) {
 
 const char* category(const model::GeomTag& tag) {
   if (tag.is_robot()) return "robot";
-  if (tag.is_human() || tag.owner == model::GeomOwner::kHumanHand) return "human";
+  if (tag.is_human()) return "human";
   if (tag.owner == model::GeomOwner::kObject) return "object";
   return "scene";
 }
@@ -145,6 +146,34 @@ json body_geoms(const model::Model& model, int body, std::string& body_category)
   return geoms;
 }
 
+// The drawn hands' parts (human/hand.h) as bodies of the page, each with its capsules in the
+// part's frame and in the colour of its hand's contact capsule (which the page, like the
+// renderers, does not draw).
+json hand_part_geoms(const model::Model& model, human::Side side, human::HandPart part) {
+  const mjModel& m = *model.m();
+  const float* rgba = nullptr;
+  for (size_t c = 0; c < model.human_capsules.size(); ++c) {
+    const human::BodyCapsule& capsule = model.human_capsules[c];
+    if (capsule.region == human::BodyRegion::kHand && capsule.joint == human::wrist(side)) {
+      rgba = m.geom_rgba + 4 * model.human_capsule_geom[c];
+    }
+  }
+  HRIB_CHECK(rgba != nullptr) << "no hand capsule on the " << human::to_string(side) << " wrist";
+  json geoms = json::array();
+  for (const human::HandCapsule& c : human::hand_capsules(model.skeleton)) {
+    if (c.part != part) continue;
+    const core::Vec3 axis = c.to - c.from;
+    const core::Quat q = core::Quat::FromTwoVectors(core::Vec3::UnitZ(), axis.normalized());
+    const core::Vec3 mid = 0.5 * (c.from + c.to);
+    geoms.push_back({{"type", "capsule"},
+                     {"size", {c.radius, 0.5 * axis.norm(), 0.0}},
+                     {"pos", {mid.x(), mid.y(), mid.z()}},
+                     {"quat", {q.w(), q.x(), q.y(), q.z()}},
+                     {"rgba", {rgba[0], rgba[1], rgba[2], rgba[3]}}});
+  }
+  return geoms;
+}
+
 // Contacts of the robot with anything else, as MuJoCo finds them in the re-posed step.
 void contact_points(const model::Model& model, const sim::Data& data, int frame, json& points) {
   const mjData& d = *data.mj;
@@ -166,32 +195,55 @@ int16_t quantized(double v, double scale) {
 json episode_data(const model::Model& model, const eval::EpisodeLog& log, const eval::MetricConstants& c) {
   const mjModel& m = *model.m();
   const size_t frames = log.steps.size();
-  // Every body's pose at every step.
-  std::vector<double> poses(frames * static_cast<size_t>(m.nbody) * 7);
+  // Every body's pose at every step: the model's bodies, then (with a person) the parts of the
+  // drawn hands, left then right.
+  const int hand_parts = model.has_human ? 2 * human::kNumHandParts : 0;
+  const int slots = m.nbody + hand_parts;
+  std::vector<double> poses(frames * static_cast<size_t>(slots) * 7);
+  const auto pose = [&](size_t f, int b) { return &poses[(f * static_cast<size_t>(slots) + static_cast<size_t>(b)) * 7]; };
   sim::Data data = sim::make_data(model);
   json points = json::array();
   for (size_t f = 0; f < frames; ++f) {
     eval::pose_from_step(model, log, log.steps[f], data);
     for (int b = 0; b < m.nbody; ++b) {
-      double* p = &poses[(f * static_cast<size_t>(m.nbody) + static_cast<size_t>(b)) * 7];
-      std::memcpy(p, data.mj->xpos + 3 * b, 3 * sizeof(double));
-      std::memcpy(p + 3, data.mj->xquat + 4 * b, 4 * sizeof(double));
+      std::memcpy(pose(f, b), data.mj->xpos + 3 * b, 3 * sizeof(double));
+      std::memcpy(pose(f, b) + 3, data.mj->xquat + 4 * b, 4 * sizeof(double));
+    }
+    if (model.has_human) {
+      const auto X_W = human::hand_part_poses(model.skeleton, log.steps[f].human_pose, data.X_WJ);
+      for (int k = 0; k < hand_parts; ++k) {
+        const core::Pose& X = X_W[static_cast<size_t>(k / human::kNumHandParts)][static_cast<size_t>(k % human::kNumHandParts)];
+        double* p = pose(f, m.nbody + k);
+        p[0] = X.translation.x();
+        p[1] = X.translation.y();
+        p[2] = X.translation.z();
+        core::quat_to_wxyz(X.rotation, p + 3);
+      }
     }
     contact_points(model, data, static_cast<int>(f), points);
   }
-  const auto pose = [&](size_t f, int b) { return &poses[(f * static_cast<size_t>(m.nbody) + static_cast<size_t>(b)) * 7]; };
   // Bodies that carry a visible geom; those whose pose never changes are posed once.
   json bodies = json::array();
-  std::vector<int> body_index(static_cast<size_t>(m.nbody), -1);
+  std::vector<int> body_index(static_cast<size_t>(slots), -1);
   std::vector<int> moving;
-  for (int b = 0; b < m.nbody; ++b) {
-    std::string body_category;
-    json geoms = body_geoms(model, b, body_category);
+  for (int b = 0; b < slots; ++b) {
+    std::string body_category = b < m.nbody ? "" : "human";
+    std::string name;
+    json geoms;
+    if (b < m.nbody) {
+      geoms = body_geoms(model, b, body_category);
+      name = mj_id2name(&m, mjOBJ_BODY, b) ? mj_id2name(&m, mjOBJ_BODY, b) : "world";
+    } else {
+      const auto side = static_cast<human::Side>((b - m.nbody) / human::kNumHandParts);
+      const auto part = static_cast<human::HandPart>((b - m.nbody) % human::kNumHandParts);
+      geoms = hand_part_geoms(model, side, part);
+      name = fmt::format("human_{}_{}", human::to_string(side), human::to_string(part));
+    }
     const bool tcp_body = b == m.site_bodyid[model.tcp_site];
     if (geoms.empty() && !tcp_body) continue;
     bool still = true;
     for (size_t f = 1; f < frames && still; ++f) still = std::memcmp(pose(f, b), pose(0, b), 7 * sizeof(double)) == 0;
-    json body{{"name", mj_id2name(&m, mjOBJ_BODY, b) ? mj_id2name(&m, mjOBJ_BODY, b) : "world"},
+    json body{{"name", name},
               {"category", body_category.empty() ? "robot" : body_category},
               {"geoms", std::move(geoms)}};
     body["pose"] = still && frames > 0 ? vec(pose(0, b), 7) : json(nullptr);

@@ -5,7 +5,6 @@
 
 #include <fmt/format.h>
 
-#include "human/hand.h"
 #include "model/mjcf.h"
 
 namespace hribench::model::mjcf {
@@ -44,7 +43,8 @@ void human_body(const human::Skeleton& skeleton, const std::vector<human::BodyCa
     worldbody += "\n";
     for (const human::BodyCapsule& c : capsules) {
       if (c.joint != joint) continue;
-      // The hand's contact capsule is not drawn (group 3): the drawn hand shows it (below).
+      // The hand's contact capsule is not drawn (group 3): renderers draw the hand's fingers in
+      // its place (render/renderer.h, human/hand.h).
       worldbody += fmt::format(
           R"(<geom name="human_{}" class="human" type="capsule" fromto="{} {}" size="{}" rgba="{}"{}/>)",
           c.name, vec(c.from), vec(c.to), num(c.radius), region_rgba(c.region),
@@ -61,33 +61,6 @@ void human_body(const human::Skeleton& skeleton, const std::vector<human::BodyCa
     }
     worldbody += "</body>\n";
   }
-  // The drawn hands (human/hand.h): one mocap body per part, after every other body so that
-  // the ids of the bodies and geoms that take part in the physics do not depend on them.
-  const auto X_W = human::hand_part_poses(skeleton, pose, X_WJ);
-  const auto capsules_of_hand = human::hand_capsules(skeleton);
-  for (const human::Side side : {human::Side::kLeft, human::Side::kRight}) {
-    const size_t h = side == human::Side::kLeft ? 0 : 1;
-    for (int p = 0; p < human::kNumHandParts; ++p) {
-      const auto part = static_cast<human::HandPart>(p);
-      const core::Pose& X = X_W[h][static_cast<size_t>(p)];
-      worldbody += fmt::format(R"(<body name="{}" mocap="true" pos="{}" quat="{}">)",
-                               human_hand_part_body(side, part), vec(X.translation), quat(X.rotation));
-      worldbody += "\n";
-      for (const human::HandCapsule& c : capsules_of_hand) {
-        if (c.part != part) continue;
-        worldbody += fmt::format(
-            R"(<geom type="capsule" fromto="{} {}" size="{}" rgba="{}" group="{}" contype="0" conaffinity="0"/>)",
-            vec(c.from), vec(c.to), num(c.radius), region_rgba(human::BodyRegion::kHand),
-            kDrawnHandGroup);
-        worldbody += "\n";
-      }
-      worldbody += "</body>\n";
-    }
-  }
-}
-
-std::string human_hand_part_body(human::Side side, human::HandPart part) {
-  return fmt::format("human_{}_{}", human::to_string(side), human::to_string(part));
 }
 
 }  // namespace hribench::model::mjcf

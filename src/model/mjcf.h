@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "core/math.h"
-#include "human/hand.h"
 #include "model/model.h"
 
 namespace hribench::model::mjcf {
@@ -59,12 +58,10 @@ void object(const ObjectSpec& spec, ObjectKind kind, const Rgba& colour, const c
             std::string& worldbody);
 
 // The human body: one mocap <body> "human_<joint name>" per joint at its world pose in `pose`,
-// carrying the capsules (geoms "human_<capsule name>") and, on the wrists, "palm_<side>" sites;
-// then the drawn hands, one mocap body per part (human_hand_part_body), after all other bodies.
+// carrying the capsules (geoms "human_<capsule name>"; the hands' not drawn, group 3) and, on the
+// wrists, "palm_<side>" sites.
 void human_body(const human::Skeleton& skeleton, const std::vector<human::BodyCapsule>& capsules,
                 const human::SkeletonPose& pose, const std::array<core::Pose, 2>& X_wrist_palm,
                 std::string& worldbody);
-// "human_<side>_<part>", e.g. "human_right_index_distal".
-std::string human_hand_part_body(human::Side side, human::HandPart part);
 
 }  // namespace hribench::model::mjcf

@@ -389,18 +389,19 @@ Generated generate(const SceneSpec& spec) {
   std::string key_mocap;
   if (h.present) {
     std::string mpos, mquat;
-    const auto add = [&](const Pose& X) {
+    for (const Pose& X : X_WJ) {
       mpos += mjcf::vec(X.translation) + " ";
       mquat += mjcf::quat(X.rotation) + " ";
-    };
-    for (const Pose& X : X_WJ) add(X);
-    for (const auto& hand : human::hand_part_poses(g.skeleton, g.human_start, X_WJ)) {
-      for (const Pose& X : hand) add(X);
     }
     mpos.pop_back();  // MuJoCo counts a trailing space as one more number
     mquat.pop_back();
     key_mocap = fmt::format(R"( mpos="{}" mquat="{}")", mpos, mquat);
   }
+  // The person's height, from which renderers size the drawn hands (kHumanHeightNumeric).
+  const std::string custom =
+      h.present ? fmt::format(R"(<custom><numeric name="{}" data="{}"/></custom>)" "\n", kHumanHeightNumeric,
+                              mjcf::num(g.skeleton.height))
+                : "";
 
   const int static_aff = mjcf::kBitRobot | mjcf::kBitObject;
   const int object_aff = mjcf::kBitStatic | mjcf::kBitRobot | mjcf::kBitObject | mjcf::kBitHuman;
@@ -409,8 +410,8 @@ Generated generate(const SceneSpec& spec) {
       R"(<mujoco model="hribench">
 <compiler angle="radian" autolimits="true"/>
 <option timestep="{timestep}" integrator="implicit" cone="elliptic" impratio="10" tolerance="1e-8" iterations="50"/>
-<size njmax="{njmax}" nconmax="{nconmax}"/>
-<visual>
+<size njmax="{njmax}" nconmax="{nconmax}" nuserdata="{nuserdata}"/>
+{custom}<visual>
   <headlight ambient="0.35 0.35 0.35" diffuse="0.35 0.35 0.35" specular="0 0 0"/>
   <global offwidth="1280" offheight="960"/>
   <quality shadowsize="2048"/>
@@ -440,7 +441,8 @@ Generated generate(const SceneSpec& spec) {
 </mujoco>
 )",
       fmt::arg("timestep", mjcf::num(kTimestep)), fmt::arg("njmax", kMaxConstraintRows),
-      fmt::arg("nconmax", kMaxContacts), fmt::arg("static_bit", mjcf::kBitStatic),
+      fmt::arg("nconmax", kMaxContacts), fmt::arg("nuserdata", kHandShapeValues), fmt::arg("custom", custom),
+      fmt::arg("static_bit", mjcf::kBitStatic),
       fmt::arg("static_aff", static_aff), fmt::arg("object_bit", mjcf::kBitObject),
       fmt::arg("object_aff", object_aff), fmt::arg("human_bit", mjcf::kBitHuman),
       fmt::arg("human_aff", human_aff), fmt::arg("defaults", defaults), fmt::arg("world", world),
@@ -510,7 +512,6 @@ std::string_view to_string(GeomOwner owner) {
     case GeomOwner::kRobotHand: return "robot_hand";
     case GeomOwner::kRobotFinger: return "robot_finger";
     case GeomOwner::kHuman: return "human";
-    case GeomOwner::kHumanHand: return "human_hand";
     case GeomOwner::kObject: return "object";
     case GeomOwner::kPlatform: return "platform";
   }
@@ -608,7 +609,6 @@ Model build(const SceneSpec& spec) {
   // Human.
   model.human_body.fill(-1);
   model.human_mocap.fill(-1);
-  for (auto& hand : model.human_hand_mocap) hand.fill(-1);
   model.has_human = model.spec.human.present;
   if (model.has_human) {
     model.skeleton = g.skeleton;
@@ -625,12 +625,6 @@ Model build(const SceneSpec& spec) {
     }
     for (const auto& c : model.human_capsules)
       model.human_capsule_geom.push_back(id_of(m, mjOBJ_GEOM, "human_" + std::string(c.name)));
-    for (const human::Side side : {human::Side::kLeft, human::Side::kRight}) {
-      for (int p = 0; p < human::kNumHandParts; ++p) {
-        const int body = id_of(m, mjOBJ_BODY, mjcf::human_hand_part_body(side, static_cast<human::HandPart>(p)));
-        model.human_hand_mocap[static_cast<size_t>(side)][static_cast<size_t>(p)] = m->body_mocapid[body];
-      }
-    }
   }
 
   // Objects.
@@ -667,14 +661,6 @@ Model build(const SceneSpec& spec) {
     by_body[model.objects[k].body] = {GeomOwner::kObject, static_cast<int>(k)};
     if (model.objects[k].lid_body >= 0)
       by_body[model.objects[k].lid_body] = {GeomOwner::kObject, static_cast<int>(k)};
-  }
-  if (model.has_human) {
-    for (const human::Side side : {human::Side::kLeft, human::Side::kRight}) {
-      for (int p = 0; p < human::kNumHandParts; ++p) {
-        const int body = id_of(m, mjOBJ_BODY, mjcf::human_hand_part_body(side, static_cast<human::HandPart>(p)));
-        by_body[body] = {GeomOwner::kHumanHand, static_cast<int>(side), human::BodyRegion::kHand, human::wrist(side)};
-      }
-    }
   }
   model.geom_tags.assign(static_cast<size_t>(m->ngeom), GeomTag{});
   for (int gid = 0; gid < m->ngeom; ++gid) {

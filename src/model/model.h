@@ -22,7 +22,6 @@
 #include <mujoco/mujoco.h>
 
 #include "core/math.h"
-#include "human/hand.h"
 #include "human/skeleton.h"
 #include "model/robot.h"
 
@@ -139,10 +138,12 @@ inline constexpr double kTimestep = 0.002;      // s (500 Hz physics)
 inline constexpr int kMaxContacts = 200;                           // nconmax
 inline constexpr int kMaxConstraintRows = 4 * kMaxContacts + 200;  // njmax
 
-// Geom group of the drawn hands (human/hand.h): drawn by the renderers and the 3D replay
-// (groups 0-2), never in contact, and left out of the visibility filter's rays, which judge the
-// hands by their contact capsules (group 3, not drawn).
-inline constexpr int kDrawnHandGroup = 2;
+// The hands' shapes (human::HandShape) ride in mjData::userdata for the renderers, which draw
+// each hand's fingers in place of its contact capsule (render/renderer.h, human/hand.h): left
+// grip, left point, right grip, right point (sim::pose_human writes them). The person's height
+// is the model's numeric "human_height".
+inline constexpr int kHandShapeValues = 4;
+inline constexpr const char* kHumanHeightNumeric = "human_height";
 
 // ---------------------------------------------------------------------------------------------
 // Geom tags: who every geom of the model belongs to.
@@ -155,7 +156,6 @@ enum class GeomOwner {
   kRobotHand,    // the hand body (palm housing)
   kRobotFinger,  // index = 0 (left finger) or 1 (right finger); includes the finger pads
   kHuman,        // index = capsule index in Model::human_capsules; region/joint set
-  kHumanHand,    // the drawn hand (human/hand.h; never in contact); index = side, region/joint set
   kObject,       // index = object index in Model::objects
   kPlatform,     // a raised platform; index = platform index in Model::platforms
 };
@@ -253,8 +253,6 @@ struct Model {
   std::vector<int> human_capsule_geom;            // geom id of each capsule
   std::array<int, human::kNumJoints> human_body{};   // body id per joint (-1 if absent)
   std::array<int, human::kNumJoints> human_mocap{};  // mocap index per joint (-1 if absent)
-  // Mocap index of each drawn hand part ([side][part], human/hand.h; -1 if absent).
-  std::array<std::array<int, human::kNumHandParts>, 2> human_hand_mocap{};
   // Pose at reset: standing at the spec position, arms hanging; a hand that holds an object
   // from the start (ObjectSpec::held_by) has its forearm bent forward 90 deg.
   human::SkeletonPose human_start;

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
 #include "core/errors.h"
+#include "human/hand.h"
 
 namespace hribench::render {
 
@@ -47,10 +49,56 @@ std::mutex& gl_work_mutex() {
   return mutex;
 }
 
+// The person's skeleton, from the model's numeric kHumanHeightNumeric; none without a person.
+std::optional<human::Skeleton> drawn_skeleton(const mjModel& m) {
+  const int id = mj_name2id(&m, mjOBJ_NUMERIC, model::kHumanHeightNumeric);
+  if (id < 0 || m.nuserdata < model::kHandShapeValues) return std::nullopt;
+  return human::Skeleton::FromHeight(m.numeric_data[m.numeric_adr[id]]);
+}
+
 // Room for everything mjv_updateScene may add with default options (geoms, sites, tendon
-// segments, lights' decor), so it never raises mjWARN_VGEOMFULL into the caller's mjData.
+// segments, lights' decor), and for the drawn hands, so it never raises mjWARN_VGEOMFULL into
+// the caller's mjData.
 int scene_capacity(const mjModel& m) {
-  return m.ngeom + m.nsite + 16 * m.ntendon + m.nbody + m.nlight + 100;
+  const std::optional<human::Skeleton> skeleton = drawn_skeleton(m);
+  const int hands = skeleton ? 2 * static_cast<int>(human::hand_capsules(*skeleton).size()) : 0;
+  return m.ngeom + m.nsite + 16 * m.ntendon + m.nbody + m.nlight + 100 + hands;
+}
+
+// The person's hands (human/hand.h), drawn in place of their contact capsules, which the model
+// does not draw (group 3): capsules added to the scene after mjv_updateScene, posed from the
+// wrist bodies and the shapes in d.userdata (model::kHandShapeValues), in the capsule's colour.
+// Each carries its hand capsule's geom id, so segmentation names it as that hand.
+void add_drawn_hands(const mjModel& m, const mjData& d, mjvScene& scene) {
+  const std::optional<human::Skeleton> skeleton = drawn_skeleton(m);
+  if (!skeleton) return;
+  const std::vector<human::HandCapsule> parts = human::hand_capsules(*skeleton);
+  for (const human::BodyCapsule& hand : human::body_capsules(*skeleton)) {
+    if (hand.region != human::BodyRegion::kHand) continue;
+    const human::Side side = hand.joint == human::wrist(human::Side::kLeft) ? human::Side::kLeft : human::Side::kRight;
+    const int wrist = mj_name2id(&m, mjOBJ_BODY, ("human_" + std::string(human::joint_name(hand.joint))).c_str());
+    const int capsule = mj_name2id(&m, mjOBJ_GEOM, ("human_" + std::string(hand.name)).c_str());
+    if (wrist < 0 || capsule < 0) continue;
+    const core::Pose X_W_wrist{core::quat_from_wxyz(d.xquat + 4 * wrist),
+                               core::Vec3(d.xpos[3 * wrist], d.xpos[3 * wrist + 1], d.xpos[3 * wrist + 2])};
+    const mjtNum* shape = d.userdata + 2 * static_cast<size_t>(side);
+    const auto X = human::hand_part_frames(*skeleton, side, {shape[0], shape[1]});
+    for (const human::HandCapsule& c : parts) {
+      if (scene.ngeom >= scene.maxgeom) return;
+      const core::Pose X_W_part = X_W_wrist * X[static_cast<size_t>(c.part)];
+      const core::Vec3 a = X_W_part * c.from;
+      const core::Vec3 b = X_W_part * c.to;
+      mjvGeom* g = scene.geoms + scene.ngeom;
+      const mjtNum size[3] = {c.radius, c.radius, c.radius};
+      mjv_initGeom(g, mjGEOM_CAPSULE, size, nullptr, nullptr, m.geom_rgba + 4 * capsule);
+      mjv_makeConnector(g, mjGEOM_CAPSULE, c.radius, a.x(), a.y(), a.z(), b.x(), b.y(), b.z());
+      g->objtype = mjOBJ_GEOM;
+      g->objid = capsule;
+      g->category = mjCAT_DYNAMIC;
+      g->segid = scene.ngeom;
+      ++scene.ngeom;
+    }
+  }
 }
 
 // The model's fixed camera `camera_id` as an mjvCamera.
@@ -157,6 +205,7 @@ void Renderer::draw(const mjModel& m, const mjData& d, const mjvCamera& camera) 
   camera_ = camera;
   // mjv_updateScene takes mjData* but only reads it (it could set a warning; see capacity).
   mjv_updateScene(&m, const_cast<mjData*>(&d), &option_, nullptr, &camera_, mjCAT_ALL, &scene_);
+  add_drawn_hands(m, d, scene_);
   mjr_render(mjrRect{0, 0, width_, height_}, &scene_, &context_);
 }
 
@@ -198,6 +247,7 @@ bool Renderer::render_panels(const mjModel& m, const mjData& d,
   for (int i = 0; i < panels; ++i) {
     camera_ = fixed_camera(m, camera_ids[static_cast<size_t>(i)]);
     mjv_updateScene(&m, const_cast<mjData*>(&d), &option_, nullptr, &camera_, mjCAT_ALL, &scene_);
+    add_drawn_hands(m, d, scene_);
     mjr_render(mjrRect{i * panel_width, band_height, panel_width, height_ - band_height}, &scene_,
                &context_);
   }

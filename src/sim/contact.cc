@@ -93,7 +93,6 @@ std::string party_name(const model::Model& model, const ContactParty& party) {
       return "floor";
     case GeomOwner::kPlatform:
       return "platform";
-    case GeomOwner::kHumanHand:  // drawn only, never in contact (model::kDrawnHandGroup)
     case GeomOwner::kOther:
       break;
   }

@@ -3,7 +3,6 @@
 #include <sstream>
 
 #include "core/errors.h"
-#include "human/hand.h"
 #include "sim/hold.h"
 
 namespace hribench::sim {
@@ -73,17 +72,20 @@ void pose_human(const model::Model& model, Data& data) {
   if (!model.has_human || !data.human_pose_dirty) return;
   data.X_WJ = human::forward_kinematics(model.skeleton, data.human_pose);
   mjData* d = data.mj.get();
-  const auto place = [d](int mocap, const core::Pose& X) {
+  for (size_t j = 0; j < human::kNumJoints; ++j) {
+    const int mocap = model.human_mocap[j];
+    const core::Pose& X = data.X_WJ[j];
     mjtNum* pos = d->mocap_pos + 3 * mocap;
     pos[0] = X.translation.x();
     pos[1] = X.translation.y();
     pos[2] = X.translation.z();
     core::quat_to_wxyz(X.rotation, d->mocap_quat + 4 * mocap);
-  };
-  for (size_t j = 0; j < human::kNumJoints; ++j) place(model.human_mocap[j], data.X_WJ[j]);
-  const auto X_W_hands = human::hand_part_poses(model.skeleton, data.human_pose, data.X_WJ);
+  }
+  // The hands' shapes, for the renderers (model::kHandShapeValues).
+  static_assert(model::kHandShapeValues == 4);
   for (size_t h = 0; h < 2; ++h) {
-    for (size_t p = 0; p < X_W_hands[h].size(); ++p) place(model.human_hand_mocap[h][p], X_W_hands[h][p]);
+    d->userdata[2 * h] = data.human_pose.hands[h].grip;
+    d->userdata[2 * h + 1] = data.human_pose.hands[h].point;
   }
   data.human_pose_dirty = false;
 }

@@ -1,13 +1,11 @@
 // The human body in the model: mocap bodies at the skeleton's joint frames, capsules as in
 // human::body_capsules, palm sites in the human layer's hand convention.
 
-#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
 
 #include "human/arm_ik.h"
-#include "human/hand.h"
 #include "model/model.h"
 #include "support/mujoco_fixture.h"
 
@@ -90,50 +88,30 @@ TEST_F(HumanBodyTest, HeldObjectStartsOffThePalmWithTheForearmForward) {
   EXPECT_LT((centre - palm).norm(), 0.12);
 }
 
-// The drawn hands (human/hand.h): mocap bodies after every other body, at the parts' poses of
-// the start pose; their geoms are drawn (group kDrawnHandGroup), and never collide;
-// the hands' contact capsules are not drawn.
-TEST_F(HumanBodyTest, DrawnHandsAreMocapBodiesThatNeverCollide) {
-  const Model model = build(SceneSpec::Default());
+// The drawn hands (human/hand.h, render/renderer.h): the model does not draw the hands' contact
+// capsules (group 3); it carries the person's height and room in mjData::userdata for the hands'
+// shapes, from which the renderers draw the fingers.
+TEST_F(HumanBodyTest, HandCapsulesAreNotDrawnAndTheHandsCanBe) {
+  SceneSpec spec = SceneSpec::Default();
+  spec.human.height = 1.62;
+  const Model model = build(spec);
   const mjModel* m = model.m();
-  mjData* d = mj_makeData(m);
-  mj_resetDataKeyframe(m, d, 0);
-  mj_kinematics(m, d);
-  const auto X_WJ = human::forward_kinematics(model.skeleton, model.human_start);
-  const auto X_W = human::hand_part_poses(model.skeleton, model.human_start, X_WJ);
-  int first_hand_body = m->nbody;
-  int drawn = 0;
-  for (size_t h = 0; h < 2; ++h) {
-    for (size_t p = 0; p < human::kNumHandParts; ++p) {
-      const int mocap = model.human_hand_mocap[h][p];
-      ASSERT_GE(mocap, 0);
-      const Vec3 at(d->mocap_pos[3 * mocap], d->mocap_pos[3 * mocap + 1], d->mocap_pos[3 * mocap + 2]);
-      EXPECT_LT((at - X_W[h][p].translation).norm(), 1e-7) << h << " " << p;
-    }
+  int hands = 0;
+  for (size_t c = 0; c < model.human_capsules.size(); ++c) {
+    const int g = model.human_capsule_geom[c];
+    const bool hand = model.human_capsules[c].region == human::BodyRegion::kHand;
+    hands += hand ? 1 : 0;
+    EXPECT_EQ(m->geom_group[g], hand ? 3 : 0) << model.human_capsules[c].name;
   }
-  for (int b = 0; b < m->nbody; ++b) {
-    if (m->body_mocapid[b] >= human::kNumJoints) first_hand_body = std::min(first_hand_body, b);
-  }
-  for (int g = 0; g < m->ngeom; ++g) {
-    const GeomTag& tag = model.geom_tags[static_cast<size_t>(g)];
-    if (tag.owner == GeomOwner::kHumanHand) {
-      ++drawn;
-      EXPECT_EQ(m->geom_group[g], kDrawnHandGroup);
-      EXPECT_EQ(m->geom_contype[g], 0);
-      EXPECT_EQ(m->geom_conaffinity[g], 0);
-      EXPECT_EQ(m->geom_bodyid[g] >= first_hand_body, true);
-    } else {
-      EXPECT_NE(m->geom_group[g], kDrawnHandGroup) << mj_id2name(m, mjOBJ_GEOM, g);
-    }
-    if (tag.is_human() && tag.region == human::BodyRegion::kHand) {
-      EXPECT_EQ(m->geom_group[g], 3);
-    }
-  }
-  EXPECT_EQ(drawn, 2 * static_cast<int>(human::hand_capsules(model.skeleton).size()));
-  // Every body after the first drawn part is a drawn part: the physics' ids come first.
-  EXPECT_EQ(m->nbody - first_hand_body, 2 * human::kNumHandParts);
-  ExpectNoWarnings(d);
-  mj_deleteData(d);
+  EXPECT_EQ(hands, 2);
+  EXPECT_EQ(m->nuserdata, kHandShapeValues);
+  const int height = mj_name2id(m, mjOBJ_NUMERIC, kHumanHeightNumeric);
+  ASSERT_GE(height, 0);
+  EXPECT_DOUBLE_EQ(m->numeric_data[m->numeric_adr[height]], 1.62);
+  // Without a person there is nothing to draw.
+  SceneSpec empty = SceneSpec::Default();
+  empty.human.present = false;
+  EXPECT_LT(mj_name2id(build(empty).m(), mjOBJ_NUMERIC, kHumanHeightNumeric), 0);
 }
 
 }  // namespace

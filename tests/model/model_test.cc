@@ -21,7 +21,7 @@ TEST_F(ModelTest, DefaultSceneBuildsWithRobotObjectsHumanAndCameras) {
   ASSERT_NE(m, nullptr);
   EXPECT_DOUBLE_EQ(m->opt.timestep, 0.002);
   EXPECT_EQ(m->nu, 8);
-  EXPECT_EQ(m->nmocap, human::kNumJoints + 2 * human::kNumHandParts);  // joints, drawn hand parts
+  EXPECT_EQ(m->nmocap, human::kNumJoints);
   ASSERT_EQ(model.objects.size(), 3u);
   EXPECT_EQ(model.objects[0].name, "cube");
   EXPECT_EQ(model.objects[0].kind, ObjectKind::kCube);
