@@ -140,8 +140,8 @@ inline constexpr int kMaxConstraintRows = 4 * kMaxContacts + 200;  // njmax
 
 // The hands' shapes (human::HandShape) ride in mjData::userdata for the renderers, which draw
 // each hand's fingers in place of its contact capsule (render/renderer.h, human/hand.h): left
-// grip, left point, right grip, right point (sim::pose_human writes them). The person's height
-// is the model's numeric "human_height".
+// grip, left point, right grip, right point (sim::pose_human writes them). The person's height,
+// which sizes the hands, is the model's numeric named kHumanHeightNumeric.
 inline constexpr int kHandShapeValues = 4;
 inline constexpr const char* kHumanHeightNumeric = "human_height";
 
