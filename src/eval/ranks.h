@@ -9,9 +9,9 @@
 // Messages (MPI_BYTE, MPI_COMM_WORLD): a worker thread's request to rank 0 carries the job it
 // finished (if any) with its reply (for `eval`, the episode's line of episodes.jsonl:
 // eval/report.h episode_to_json, exact for every double), and rank 0 answers that thread with
-// its next job or "none". Episode logs and
-// videos are written by the rank that ran the episode, into OUT/logs and OUT/videos: the ranks
-// must share OUT's file system, as on a cluster's shared disk.
+// its next job or "none". Episode logs and videos are written by the rank that ran the episode,
+// into OUT/logs and OUT/videos: the ranks must share OUT's file system, as on a cluster's shared
+// disk.
 
 #include <cstddef>
 #include <functional>

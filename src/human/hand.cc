@@ -11,6 +11,7 @@
 
 #include <algorithm>
 
+#include "human/arm_ik.h"
 
 namespace hribench::human {
 namespace {
@@ -45,8 +46,6 @@ constexpr std::array<OtherFinger, 3> kOtherFingers = {{
     {-0.013, 0.04, 0.0078},   // ring
     {-0.029, 0.03, 0.007},    // little
 }};
-
-Vec3 palm_normal(Side side) { return Vec3(0, side == Side::kLeft ? -1.0 : 1.0, 0); }
 
 Quat along(const Vec3& direction) {
   return Quat::FromTwoVectors(-Vec3::UnitZ(), direction.normalized());
@@ -95,7 +94,7 @@ std::array<Pose, kNumHandParts> hand_part_frames(const Skeleton& skeleton, Side 
   const double grip = std::clamp(shape.grip, 0.0, 1.0);
   const double point = std::clamp(shape.point, 0.0, 1.0);
   const Vec3 fingers = -Vec3::UnitZ();
-  const Vec3 normal = palm_normal(side);
+  const Vec3 normal = palm_normal(side, Pose::Identity());  // in the wrist frame
   const Vec3 thumb_side = Vec3::UnitX();
   // A finger flexes toward the palm: about fingers x normal.
   const Vec3 flex_axis = fingers.cross(normal);

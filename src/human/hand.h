@@ -2,12 +2,12 @@
 // The drawn hand (docs/motion.md "Hands"): a palm, an index finger, the three other fingers and
 // a thumb, as capsules, posed from a HandShape, so that a pointing hand, an open palm and a
 // closed hand differ in silhouette. The hand's contact shape stays the one capsule of
-// body_capsules() ("left_hand" / "right_hand"), which envelops these parts; the drawn parts are
-// seen by cameras and never touch anything.
+// body_capsules() ("left_hand" / "right_hand"), within 5.5 cm of these parts in every shape; the
+// drawn parts are seen by cameras and never touch anything.
 //
 // Frames: every part has a frame given relative to its wrist joint frame. In the wrist frame the
 // fingers point along -z, the thumb lies on the +x side and the palm faces -y for the left hand,
-// +y for the right (toward the midline at rest, as Model::X_wrist_palm says). A finger flexes
+// +y for the right (toward the midline at rest: human::palm_normal). A finger flexes
 // toward the palm. Each part's capsules run along -z of its own frame.
 
 #include <array>

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "human/arm_ik.h"
+
 
 namespace hribench::human {
 namespace {
@@ -28,8 +30,8 @@ Vec3 index_tip(const Skeleton& k, Side side, const HandShape& shape) {
   return tips(k, side, shape, HandPart::kIndexDistal).at(0);
 }
 
-// The palm normal in the wrist frame (Model::X_wrist_palm's convention).
-Vec3 palm_side(Side side) { return Vec3(0, side == Side::kLeft ? -1.0 : 1.0, 0); }
+// The palm normal in the wrist frame.
+Vec3 palm_side(Side side) { return palm_normal(side, Pose::Identity()); }
 
 TEST(Hand, EveryPartHasCapsulesAndANameAndTheStraightIndexReachesTheHandLength) {
   for (const double height : {1.5, 1.75, 1.95}) {
