@@ -35,6 +35,13 @@ std::string_view to_string(EpisodeStatus status) {
   return "unknown";
 }
 
+EpisodeStatus episode_status_from_string(const std::string& name, const std::string& where) {
+  for (const auto status : {EpisodeStatus::kOk, EpisodeStatus::kInvalid, EpisodeStatus::kPolicyError}) {
+    if (to_string(status) == name) return status;
+  }
+  throw InputError(where, "ok, invalid or policy_error", "'" + name + "'");
+}
+
 namespace {
 std::atomic<bool> check_failure_throws{false};
 }  // namespace

@@ -43,6 +43,8 @@ enum class EpisodeStatus {
   kPolicyError,  // the policy failed (wrong shape, NaN/out-of-range action, server gone)
 };
 std::string_view to_string(EpisodeStatus status);
+// The status `to_string` names; throws InputError (where = `where`) for another name.
+EpisodeStatus episode_status_from_string(const std::string& name, const std::string& where);
 
 // Tier 1 in a host that must not die (the Python module): what a failed check throws when
 // set_check_failure_throws(true). what() is the message a failed check prints.

@@ -83,14 +83,6 @@ FailureLabel label_from_string(const std::string& name, const std::string& where
                          "'" + name + "'");
 }
 
-core::EpisodeStatus status_from_string(const std::string& name, const std::string& where) {
-  for (const auto status : {core::EpisodeStatus::kOk, core::EpisodeStatus::kInvalid,
-                            core::EpisodeStatus::kPolicyError}) {
-    if (core::to_string(status) == name) return status;
-  }
-  throw core::InputError(where, "ok, invalid or policy_error", "'" + name + "'");
-}
-
 // The robots of a run's episodes, sorted, each once (provenance: derived, not stored).
 std::vector<std::string> run_robots(const RunResults& run) {
   std::vector<std::string> names;
@@ -183,7 +175,7 @@ EpisodeResult episode_from_json(const json& j, const std::string& where) {
   r.robot = j.contains("robot") ? f.string("robot") : std::string(model::kDefaultRobot);
   r.spec_hash = f.string("spec_hash");
   r.seed = f.unsigned_integer("seed");
-  r.status = status_from_string(f.string("status"), f.where("status"));
+  r.status = core::episode_status_from_string(f.string("status"), f.where("status"));
   r.status_reason = f.string("status_reason");
   EpisodeMetrics& m = r.metrics;
   m.success = f.boolean("success");
