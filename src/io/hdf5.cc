@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <mutex>
 #include <utility>
 
@@ -13,6 +14,8 @@
 #include <zlib.h>
 
 #include "core/errors.h"
+#include "core/files.h"
+#include "core/json.h"
 #include "core/version.h"
 
 namespace hribench::io {
@@ -335,6 +338,16 @@ class FileSink : public EpisodeSink {
     if (!committed_) fs::remove(path_, ec);
   }
   const EpisodeHeader& header() const { return header_; }
+  // Moves the complete file to FOLDER/episode.hdf5, the header to FOLDER/episode.json
+  // (DatasetWriter::store; `format` names the writer).
+  void store(const fs::path& folder, const char* format) {
+    if (!closed_) throw core::InputError(path_.string(), "a complete episode (its last frame)", "an episode cut short");
+    fs::create_directories(folder);
+    fs::rename(path_, folder / "episode.hdf5");
+    committed_ = true;  // moved away: nothing to remove
+    const nlohmann::json stored = {{"format", format}, {"header", episode_header_json(header_)}};
+    core::write_file_atomically(folder / "episode.json", stored.dump() + "\n");
+  }
   // Adds the outcome to `group` ("/" or a group's name) and renames the file to `path`.
   void commit(const EpisodeOutcome& outcome, const fs::path& path, const char* group) {
     if (!closed_) throw core::InputError(path.string(), "a complete episode (its last frame)", "an episode cut short");
@@ -364,6 +377,35 @@ class FileSink : public EpisodeSink {
   bool closed_ = false;
   bool committed_ = false;
 };
+
+// A complete episode stored by FileSink::store, copied to `path` to be committed
+// (DatasetWriter::load): it takes no frames.
+class StoredSink : public FileSink {
+ public:
+  StoredSink(EpisodeHeader header, fs::path path) : FileSink(std::move(header), std::move(path)) { closed_ = true; }
+  void add(const Frame&) override {
+    throw core::InputError(path_.string(), "no frames (a stored episode is complete)", "a frame");
+  }
+};
+
+// The episode FOLDER/episode.hdf5 a writer of `format` stored, copied to a temporary name in
+// the folder `into(header)` names.
+std::unique_ptr<FileSink> load_stored(const fs::path& folder, const char* format,
+                                      const std::function<fs::path(const EpisodeHeader&)>& into, const char* stem) {
+  const std::string where = (folder / "episode.json").string();
+  const nlohmann::json stored = core::read_json_file(where);
+  if (!stored.is_object() || stored.value("format", "") != format) {
+    throw core::InputError(where, std::string("an episode stored by the ") + format + " writer", "other JSON");
+  }
+  EpisodeHeader header = episode_header_from_json(core::json_member(stored, "header", where), where + ": header");
+  const fs::path target = into(header);
+  fs::create_directories(target);
+  const fs::path path = temporary_path(target, stem);
+  std::error_code error;
+  fs::copy_file(folder / "episode.hdf5", path, error);
+  if (error) throw core::InputError::Message((folder / "episode.hdf5").string(), "cannot be copied: " + error.message());
+  return std::make_unique<StoredSink>(std::move(header), path);
+}
 
 class ActSink : public FileSink {
  public:
@@ -461,7 +503,7 @@ std::unique_ptr<EpisodeSink> ActWriter::begin_episode(const EpisodeHeader& heade
 }
 
 void ActWriter::commit(std::unique_ptr<EpisodeSink> sink, const EpisodeOutcome& outcome) {
-  auto* act = dynamic_cast<ActSink*>(sink.get());
+  auto* act = dynamic_cast<FileSink*>(sink.get());
   HRIB_CHECK(act != nullptr) << "a sink of another writer";
   const std::string& task = act->header().task;
   act->commit(outcome, act_episode_path(dir_, task, episodes_[task]), "/");
@@ -469,6 +511,16 @@ void ActWriter::commit(std::unique_ptr<EpisodeSink> sink, const EpisodeOutcome& 
 }
 
 void ActWriter::discard(std::unique_ptr<EpisodeSink> sink) { sink.reset(); }
+
+void ActWriter::store(std::unique_ptr<EpisodeSink> sink, const fs::path& folder) {
+  auto* act = dynamic_cast<ActSink*>(sink.get());
+  HRIB_CHECK(act != nullptr) << "a sink of this writer";
+  act->store(folder, "act-hdf5");
+}
+
+std::unique_ptr<EpisodeSink> ActWriter::load(const fs::path& folder) {
+  return load_stored(folder, "act-hdf5", [this](const EpisodeHeader& h) { return dir_ / h.task; }, "episode");
+}
 
 void ActWriter::resume(const std::vector<EpisodeHeader>& committed) {
   episodes_.clear();
@@ -621,7 +673,7 @@ std::unique_ptr<EpisodeSink> RobomimicWriter::begin_episode(const EpisodeHeader&
 }
 
 void RobomimicWriter::commit(std::unique_ptr<EpisodeSink> sink, const EpisodeOutcome& outcome) {
-  auto* demo = dynamic_cast<RobomimicSink*>(sink.get());
+  auto* demo = dynamic_cast<FileSink*>(sink.get());
   HRIB_CHECK(demo != nullptr) << "a sink of another writer";
   demo->commit(outcome, part_path(dir_, tasks_.size()), "demo");
   tasks_.push_back(demo->header().task);
@@ -631,6 +683,16 @@ void RobomimicWriter::commit(std::unique_ptr<EpisodeSink> sink, const EpisodeOut
 }
 
 void RobomimicWriter::discard(std::unique_ptr<EpisodeSink> sink) { sink.reset(); }
+
+void RobomimicWriter::store(std::unique_ptr<EpisodeSink> sink, const fs::path& folder) {
+  auto* demo = dynamic_cast<RobomimicSink*>(sink.get());
+  HRIB_CHECK(demo != nullptr) << "a sink of this writer";
+  demo->store(folder, "robomimic");
+}
+
+std::unique_ptr<EpisodeSink> RobomimicWriter::load(const fs::path& folder) {
+  return load_stored(folder, "robomimic", [this](const EpisodeHeader&) { return parts_folder(dir_); }, "demo");
+}
 
 void RobomimicWriter::resume(const std::vector<EpisodeHeader>& committed) {
   tasks_.clear();

@@ -53,6 +53,8 @@ class ActWriter : public DatasetWriter {
   void discard(std::unique_ptr<EpisodeSink> sink) override;
   void finish() override {}
   void resume(const std::vector<EpisodeHeader>& committed) override;
+  void store(std::unique_ptr<EpisodeSink> sink, const std::filesystem::path& folder) override;
+  std::unique_ptr<EpisodeSink> load(const std::filesystem::path& folder) override;
 
  private:
   std::filesystem::path dir_;
@@ -67,6 +69,8 @@ class RobomimicWriter : public DatasetWriter {
   void discard(std::unique_ptr<EpisodeSink> sink) override;
   void finish() override;
   void resume(const std::vector<EpisodeHeader>& committed) override;
+  void store(std::unique_ptr<EpisodeSink> sink, const std::filesystem::path& folder) override;
+  std::unique_ptr<EpisodeSink> load(const std::filesystem::path& folder) override;
 
  private:
   std::filesystem::path dir_;

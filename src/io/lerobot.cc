@@ -555,6 +555,11 @@ class LeRobotSink : public EpisodeSink {
     }
   }
 
+  // A stored episode being loaded (DatasetWriter::load): the caller fills the rows and copies
+  // the mp4s; nothing is encoded.
+  LeRobotSink(EpisodeHeader header_in, const std::string& stored)
+      : header(std::move(header_in)), where_("episode stored in " + stored), finished_(true) {}
+
   ~LeRobotSink() override {
     videos.clear();  // unfinished writers remove their temporary files
     if (!placed) {
@@ -688,6 +693,83 @@ class LeRobotWriter : public DatasetWriter {
   }
 
   std::unique_ptr<EpisodeSink> begin_episode(const EpisodeHeader& header) override {
+    accept(header);
+    fs::create_directories(staging());
+    return std::make_unique<LeRobotSink>(header, staging(), next_sink_++, options_.video);
+  }
+
+  // The rows in episode.json (header, rows, image histograms), the mp4s as CAMERA.mp4.
+  void store(std::unique_ptr<EpisodeSink> sink_in, const fs::path& folder) override {
+    auto& sink = dynamic_cast<LeRobotSink&>(*sink_in);
+    sink.finish_videos();
+    fs::create_directories(folder);
+    for (size_t c = 0; c < sink.video_paths.size(); ++c) {
+      fs::rename(sink.video_paths[c], folder / (sink.header.cameras[c].name + ".mp4"));
+    }
+    sink.placed = true;
+    Json histograms = Json::array();
+    for (const ImageSums& sums : sink.image_sums) histograms.push_back({{"frames", sums.frames}, {"rgb", sums.histogram}});
+    const Json stored = {{"format", "lerobot"},
+                         {"header", episode_header_json(sink.header)},
+                         {"rows", sink.rows},
+                         {"states", sink.states},
+                         {"actions", sink.actions},
+                         {"rewards", sink.rewards},
+                         {"dones", sink.dones},
+                         {"acts", sink.acts},
+                         {"events", sink.events},
+                         {"image_histograms", histograms}};
+    core::write_file_atomically(folder / "episode.json", stored.dump() + "\n");
+  }
+
+  std::unique_ptr<EpisodeSink> load(const fs::path& folder) override {
+    const std::string where = (folder / "episode.json").string();
+    const Json stored = core::read_json_file(where);
+    if (!stored.is_object() || stored.value("format", "") != "lerobot") {
+      throw core::InputError(where, "an episode stored by the LeRobot writer", "other JSON");
+    }
+    EpisodeHeader header = episode_header_from_json(core::json_member(stored, "header", where), where + ": header");
+    accept(header);
+    fs::create_directories(staging());
+    auto sink = std::make_unique<LeRobotSink>(std::move(header), where);
+    try {
+      sink->rows = stored.at("rows").get<int64_t>();
+      sink->states = stored.at("states").get<std::vector<float>>();
+      sink->actions = stored.at("actions").get<std::vector<float>>();
+      sink->rewards = stored.at("rewards").get<std::vector<float>>();
+      sink->dones = stored.at("dones").get<std::vector<bool>>();
+      sink->acts = stored.at("acts").get<std::vector<std::string>>();
+      sink->events = stored.at("events").get<std::vector<std::string>>();
+      for (const Json& h : stored.at("image_histograms")) {
+        ImageSums sums;
+        sums.frames = h.at("frames").get<int64_t>();
+        sums.histogram = h.at("rgb").get<decltype(sums.histogram)>();
+        sink->image_sums.push_back(sums);
+      }
+    } catch (const Json::exception& e) {
+      throw core::InputError(where, "an episode stored by the LeRobot writer", e.what());
+    }
+    const size_t rows = static_cast<size_t>(sink->rows);
+    if (sink->rows < 0 || sink->states.size() != rows * sink->header.state_names.size() ||
+        sink->actions.size() != rows * sink->header.action_names.size() || sink->rewards.size() != rows ||
+        sink->dones.size() != rows || sink->acts.size() != rows || sink->events.size() != rows ||
+        sink->image_sums.size() != sink->header.cameras.size()) {
+      throw core::InputError(where, fmt::format("the rows and histograms of {} frames", sink->rows), "others");
+    }
+    const int64_t id = next_sink_++;
+    for (const CameraSpec& camera : sink->header.cameras) {
+      const fs::path from = folder / (camera.name + ".mp4");
+      sink->video_paths.push_back(staging() / fmt::format("episode-{}-{}.mp4", id, camera.name));
+      std::error_code error;
+      fs::copy_file(from, sink->video_paths.back(), fs::copy_options::overwrite_existing, error);
+      if (error) throw core::InputError::Message(from.string(), "cannot be copied: " + error.message());
+    }
+    return sink;
+  }
+
+ private:
+  // Checks that an episode of `header` fits the dataset (its first episode sets the features).
+  void accept(const EpisodeHeader& header) {
     {
       std::lock_guard lock(mutex_);
       open_new();
@@ -720,9 +802,9 @@ class LeRobotWriter : public DatasetWriter {
       }
     }
     if (header.fps < 1) throw core::InputError("episode fps", "at least 1", std::to_string(header.fps));
-    fs::create_directories(staging());
-    return std::make_unique<LeRobotSink>(header, staging(), next_sink_++, options_.video);
   }
+
+ public:
 
   void commit(std::unique_ptr<EpisodeSink> sink_in, const EpisodeOutcome& outcome) override {
     usable();

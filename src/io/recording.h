@@ -7,9 +7,12 @@
 // row numbers follow the split whatever the thread count.
 
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "core/errors.h"
 #include "render/image.h"
@@ -103,13 +106,21 @@ class DatasetWriter {
   // the interruption, but not recorded) is dropped. Throws core::InputError when the files on
   // disk do not hold them. The default refuses to resume a non-empty dataset.
   virtual void resume(const std::vector<EpisodeHeader>& committed);
+
+  // Sharded and MPI collects (docs/scale.md "Sharded collects"): a finished episode (its last
+  // frame added) is stored in `folder` (new; store creates it) as the writer's own files,
+  // nothing in them depending on the episode's place in a dataset. A writer of the same format,
+  // in this or another process, later loads it and commits the sink: the dataset then holds the
+  // bytes a commit of the original sink would have written. load copies what it needs (`folder`
+  // stays as it is) and throws core::InputError for a folder that holds no episode this format
+  // stored. The defaults refuse (a format that cannot be sharded).
+  virtual void store(std::unique_ptr<EpisodeSink> sink, const std::filesystem::path& folder);
+  virtual std::unique_ptr<EpisodeSink> load(const std::filesystem::path& folder);
 };
 
-inline void DatasetWriter::resume(const std::vector<EpisodeHeader>& committed) {
-  if (!committed.empty()) {
-    throw core::InputError("--resume", "a dataset format that can be continued",
-                           std::to_string(committed.size()) + " committed episodes of a format that cannot");
-  }
-}
+// An episode's header as JSON (every field; floats exactly, as doubles) and back (throws
+// core::InputError, where = `where`, for JSON that is not a header): what store() keeps of it.
+nlohmann::json episode_header_json(const EpisodeHeader& header);
+EpisodeHeader episode_header_from_json(const nlohmann::json& json, const std::string& where);
 
 }  // namespace hribench::io

@@ -26,6 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::hribench::testing::count_lines;
+using ::hribench::testing::files_under;
 using ::hribench::testing::read_text;
 using ::hribench::testing::run_hribench;
 
@@ -105,17 +106,8 @@ TEST(KillAndResume, GenerateEndsWithTheUninterruptedPool) {
                   });
 }
 
-// Every file under `dir` by its path relative to it, with its bytes.
-std::map<std::string, std::string> files_under(const fs::path& dir) {
-  std::map<std::string, std::string> files;
-  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-    if (entry.is_regular_file()) files[fs::relative(entry.path(), dir).string()] = read_text(entry.path());
-  }
-  return files;
-}
-
 TEST(KillAndResume, CollectEndsWithTheUninterruptedDataset) {
-  kill_and_resume("collect --tasks C2,X3 --episodes 1 --size 16 --cameras wrist --format lerobot --threads 2 --out ",
+  kill_and_resume("collect --tasks C2,X3 --episodes 1 --size 64 --cameras wrist --format lerobot --threads 2 --out ",
                   ::hribench::testing::temp_dir("kill", "collect"),
                   [](const fs::path& dir, const fs::path& reference, const std::string& what) {
                     const std::map<std::string, std::string> expected = files_under(reference);

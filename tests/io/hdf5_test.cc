@@ -207,5 +207,20 @@ TEST(RobomimicActionScale, IsAPowerOfTwoAtLeastTheBound) {
             (std::vector<float>{0.0625f, 0.25f, 1.0f, 4.0f}));
 }
 
+TEST(Hdf5StoredEpisode, ALoadOfAFolderWithoutOneOfItsFormatIsRefused) {
+  const fs::path dir = ::hribench::testing::temp_dir("hdf5", "stored");
+  const fs::path folder = dir / "stored";
+  EXPECT_EQ(::hribench::testing::error_of([&] { ActWriter(dir / "act").load(folder); }),
+            (folder / "episode.json").string() + ": cannot open file");
+  fs::create_directories(folder);
+  std::ofstream(folder / "episode.json") << R"({"format": "lerobot"})";
+  EXPECT_EQ(::hribench::testing::error_of([&] { ActWriter(dir / "act").load(folder); }),
+            (folder / "episode.json").string() + ": expected an episode stored by the act-hdf5 writer, got other JSON");
+  std::ofstream(folder / "episode.json", std::ios::trunc) << R"({"format": "robomimic", "header": {"task": 3}})";
+  EXPECT_EQ(::hribench::testing::error_of([&] { RobomimicWriter(dir / "robomimic").load(folder); }),
+            (folder / "episode.json").string() + ": header.task: expected a string, got number");
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace hribench::io

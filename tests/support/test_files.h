@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -19,6 +20,15 @@ inline std::string read_text(const std::filesystem::path& path) {
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+// Every file under `dir` by its path relative to it, with its bytes.
+inline std::map<std::string, std::string> files_under(const std::filesystem::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(dir)) {
+    if (entry.is_regular_file()) files[std::filesystem::relative(entry.path(), dir).string()] = read_text(entry.path());
+  }
+  return files;
 }
 
 // A fresh, empty folder path under the test temp dir, unique per prefix, name and process.
