@@ -2,13 +2,16 @@
 // --size 224 --format lerobot|lerobot-v3|act-hdf5|robomimic --out DIR [...]`: rolls the policy out on the
 // split's episodes, renders the cameras at every control step and writes a training dataset
 // (io/collect.h, docs/datasets.md), with a progress line. --dry-run renders every frame and
-// writes nothing (the cost of the rollouts and rendering alone).
+// writes nothing (the cost of the rollouts and rendering alone). --shard i/N records every N-th
+// episode for `hribench merge`; under `mpirun -np N` rank 0 hands the episodes out to the other
+// ranks and writes the dataset (docs/scale.md).
 
 #include <cstdio>
 #include <memory>
 #include <string>
 
 #include "cli/command.h"
+#include "eval/ranks.h"
 #include "io/collect.h"
 
 namespace hribench::cli {
@@ -22,6 +25,7 @@ int run_collect(const io::CollectRequest& r) {
     std::fflush(stderr);
     progressed = true;
   });
+  if (eval::mpi_ranks().rank != 0) return 0;  // under mpirun, rank 0 reports (eval/ranks.h)
   if (progressed) std::fprintf(stderr, "\n");
   if (!progressed && s.resumed == s.episodes) {
     std::fprintf(stderr, "hribench collect: nothing to resume: all %zu episodes of %s are finished\n", s.episodes,
@@ -58,6 +62,8 @@ HRIB_REGISTER_COMMAND(
                      "Recorded actions: the policy's own (default) or joint_pos (the servo targets)");
       app.add_option("--backend", r->backend, "GL back end of the cameras: osmesa or egl");
       app.add_flag("--dry-run", r->dry_run, "Render every frame, write nothing (throughput of the rollouts alone)");
+      app.add_option("--shard", r->shard,
+                     "i/N: record every N-th episode from the i-th, for hribench merge (docs/scale.md)");
       return [r] { return run_collect(*r); };
     });
 

@@ -2,7 +2,8 @@
 // one per shard, each finished) into OUT, exactly as one `eval` without --shard would have
 // written it: options.json without the shard, episodes.jsonl and results.json in job order,
 // summary.md and summary.csv, and the shards' logs/ (eval/shard.h, docs/scale.md). The folders
-// of a sharded `generate` become the pool one `generate` writes (gen::merge_generation). Shards
+// of a sharded `generate` become the pool one `generate` writes (gen::merge_generation), those of
+// a sharded `collect` the dataset one `collect` writes (io::merge_collect). Shards
 // that disagree (options, code, constants, a missing or repeated shard, an unfinished one) are
 // refused in one line; OUT must be new.
 
@@ -19,6 +20,7 @@
 #include "eval/report.h"
 #include "eval/shard.h"
 #include "gen/generate.h"
+#include "io/collect.h"
 
 namespace hribench::cli {
 namespace {
@@ -26,6 +28,12 @@ namespace {
 namespace fs = std::filesystem;
 
 int run_merge(const std::string& out, const std::vector<std::string>& dirs) {
+  if (io::holds_collect(dirs.front())) {
+    const io::CollectSummary s = io::merge_collect(out, dirs);
+    std::fprintf(stderr, "hribench merge: %zu collect shards -> the dataset %s\n", dirs.size(), out.c_str());
+    std::printf("%zu episodes, %zu in the dataset at %s\n", s.episodes, s.kept, out.c_str());
+    return 0;
+  }
   if (gen::holds_generation(dirs.front())) {
     const gen::GenerationReport report = gen::merge_generation(out, dirs);
     std::fprintf(stderr, "hribench merge: %zu generation shards -> the pool %s\n", dirs.size(), out.c_str());
@@ -67,11 +75,11 @@ int run_merge(const std::string& out, const std::vector<std::string>& dirs) {
   return 0;
 }
 
-HRIB_REGISTER_COMMAND("merge", "Combine the folders of a sharded eval or generate (--shard i/N) into one run or pool",
+HRIB_REGISTER_COMMAND("merge", "Combine the folders of a sharded eval, generate or collect (--shard i/N) into one run, pool or dataset",
                       [](CLI::App& app) -> std::function<int()> {
                         auto out = std::make_shared<std::string>();
                         auto dirs = std::make_shared<std::vector<std::string>>();
-                        app.add_option("OUT", *out, "Folder for the merged run (new or empty)")->required();
+                        app.add_option("OUT", *out, "Folder for the merged run, pool or dataset (new or empty)")->required();
                         app.add_option("SHARD_DIR", *dirs, "The shards' run folders, one per shard")->required();
                         return [out, dirs] { return run_merge(*out, *dirs); };
                       });

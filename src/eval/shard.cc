@@ -75,7 +75,7 @@ std::vector<size_t> shard_order(const std::vector<ShardOptions>& shards) {
     if (!s.options.contains("shard") || !s.options.at("shard").is_string() ||
         !s.options.contains("shard_of_jobs") || !s.options.at("shard_of_jobs").is_number_integer() ||
         s.options.at("shard_of_jobs").get<int64_t>() < 0) {
-      throw core::InputError::Message(s.dir, "is not a shard run (its options.json has no \"shard\" and \"shard_of_jobs\")");
+      throw core::InputError::Message(s.dir, "is not a shard run (its options have no \"shard\" and \"shard_of_jobs\")");
     }
     const Shard shard = parse_shard(s.options.at("shard").get<std::string>(), s.dir + " (options.json shard)");
     if (by_index.empty()) by_index.assign(static_cast<size_t>(shard.count), std::nullopt);

@@ -19,10 +19,14 @@
 
 #include "core/errors.h"
 #include "core/files.h"
+#include "core/json.h"
+#include "core/version.h"
 #include "eval/metrics.h"
 #include "eval/parallel.h"
+#include "eval/ranks.h"
 #include "eval/runner.h"
 #include "eval/script_driver.h"
+#include "eval/shard.h"
 #include "gen/evaluation.h"
 #include "gen/pool.h"
 #include "io/hdf5.h"
@@ -282,24 +286,96 @@ class NullWriter : public DatasetWriter {
   void discard(std::unique_ptr<EpisodeSink>) override {}
   void finish() override {}
   void resume(const std::vector<EpisodeHeader>&) override {}
+  void store(std::unique_ptr<EpisodeSink>, const fs::path&) override {}
+  std::unique_ptr<EpisodeSink> load(const fs::path&) override { return std::make_unique<NullSink>(); }
 };
 
 struct Job {
   const script::EpisodeSpec* spec = nullptr;
+  size_t number = 0;  // in the full job list (the split's episodes, in order): what --shard divides
   std::string task_id;
   std::string hash;
   std::string key;
 };
 
-// A finished episode, handed from its worker to the main thread.
+// A finished episode, handed from its worker thread (or, under mpirun, from another rank's) to
+// the thread that settles the episodes in order.
 struct Finished {
   EpisodeHeader header;
-  std::unique_ptr<EpisodeSink> sink;
+  std::unique_ptr<EpisodeSink> sink;  // none when another rank ran it
   EpisodeOutcome outcome;
   eval::EpisodeLog log;
+  bool stored = false;      // another rank stored it (a kept episode) with its log
   std::string write_error;  // the sink failed: the episode is discarded and the run stops
   std::string error;        // anything else that stops the run
 };
+
+// Whether a finished episode goes into the dataset. One that ended before its first action (a
+// policy that failed at once) shows nothing.
+bool is_kept(const EpisodeOutcome& outcome, const std::string& keep) {
+  return outcome.frames >= 2 && (outcome.success || keep == "all");
+}
+
+// What another rank sends back for an episode (eval/ranks.h): its outcome, whether it stored it,
+// and what stopped it.
+std::string reply_of(const Finished& f) {
+  return nlohmann::json{{"success", f.outcome.success},
+                        {"status", std::string(core::to_string(f.outcome.status))},
+                        {"labels", f.outcome.failure_labels},
+                        {"frames", f.outcome.frames},
+                        {"stored", f.stored},
+                        {"write_error", f.write_error},
+                        {"error", f.error}}
+      .dump();
+}
+
+Finished finished_from_reply(std::string_view reply, const std::string& where) {
+  const nlohmann::json json = core::parse_json(reply, where);
+  Finished f;
+  try {
+    f.outcome.success = json.at("success").get<bool>();
+    f.outcome.status = core::episode_status_from_string(json.at("status").get<std::string>(), where + ".status");
+    f.outcome.failure_labels = json.at("labels").get<std::vector<std::string>>();
+    f.outcome.frames = json.at("frames").get<int64_t>();
+    f.stored = json.at("stored").get<bool>();
+    f.write_error = json.at("write_error").get<std::string>();
+    f.error = json.at("error").get<std::string>();
+  } catch (const nlohmann::json::exception& e) {
+    throw core::InputError(where, "an episode's reply (outcome, stored, errors)", e.what());
+  }
+  return f;
+}
+
+// Where a stored episode (DatasetWriter::store) of job `number` waits: in a shard until the
+// merge, under mpirun until rank 0 commits it.
+fs::path stored_episode_path(const fs::path& dir, size_t number) {
+  return dir / "hribench" / "episodes" / fmt::format("{:06}", number);
+}
+// The scratch folder of the writer that records episodes to be stored, one per rank.
+fs::path staging_path(const fs::path& dir, int rank) { return dir / "hribench" / "staging" / std::to_string(rank); }
+
+// Stores `sink` as job `number`'s episode, atomically (a folder renamed into place).
+void store_episode(DatasetWriter& writer, std::unique_ptr<EpisodeSink> sink, const fs::path& dir, size_t number) {
+  const fs::path folder = stored_episode_path(dir, number);
+  const fs::path temporary = folder.string() + ".tmp";
+  fs::remove_all(temporary);
+  fs::remove_all(folder);
+  writer.store(std::move(sink), temporary);
+  fs::rename(temporary, folder);
+}
+
+// Removes the scratch folders and the stored episodes but those of `keep` (job numbers): what a
+// run that stopped left behind.
+void remove_stored_but(const fs::path& dir, const std::set<size_t>& keep) {
+  fs::remove_all(dir / "hribench" / "staging");
+  const fs::path stored = dir / "hribench" / "episodes";
+  if (!fs::is_directory(stored)) return;
+  for (const fs::directory_entry& entry : fs::directory_iterator(stored)) {
+    const std::string name = entry.path().filename().string();
+    const bool number = !name.empty() && name.size() <= 18 && name.find_first_not_of("0123456789") == std::string::npos;
+    if (!number || keep.count(std::stoull(name)) == 0) fs::remove_all(entry.path());
+  }
+}
 
 nlohmann::json read_state(const fs::path& path) {
   std::ifstream in(path);
@@ -406,6 +482,8 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
   if (backend == render::Backend::kNone) {
     throw core::InputError("--backend", "osmesa or egl (the cameras are rendered)", "none");
   }
+  const std::optional<eval::Shard> shard =
+      r.shard.empty() ? std::nullopt : std::optional<eval::Shard>(eval::parse_shard(r.shard, "--shard"));
   const gen::Split split = gen::split_from_name(r.split, "--split");
   const policy::PolicySpec policy_spec = policy::make_policy(r.policy)->spec();
   const policy::ActionSpace space =
@@ -444,7 +522,7 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
     const model::Model model = model::build(eval::scene_spec_from_episode(specs.front()));
     for (const std::string& camera : cameras) render::camera_id(*model.m(), camera, "--cameras");
   }
-  const nlohmann::json options = {{"pool", r.pool},
+  nlohmann::json options = {{"pool", r.pool},
                                   {"pool_version", manifest.pool_version},
                                   {"split", r.split},
                                   {"policy", r.policy},
@@ -456,11 +534,12 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
                                   {"keep", r.keep},
                                   {"action_space", std::string(policy::to_string(space))}};
 
-  // The folder, and what a resumed run already did.
-  const fs::path dir = r.out;
-  nlohmann::json state = r.dry_run ? nlohmann::json{{"episodes", nlohmann::json::array()}} : prepare_out(r, options);
-  std::map<std::string, nlohmann::json> finished;
-  for (const nlohmann::json& e : state.at("episodes")) finished.emplace(e.at("key").get<std::string>(), e);
+  if (shard) {
+    options["shard"] = eval::to_string(*shard);
+    options["shard_of_jobs"] = specs.size();
+    options["code"] = fmt::format("HRIBench {} (git {})", core::version(), core::git_hash());
+    options["backend"] = r.backend;
+  }
   std::map<std::string, std::string> task_ids;
   for (const gen::TaskFile& task : gen::task_catalogue()) task_ids.emplace(task.name, task.id);
   const eval::RunOptions run_options = [&] {
@@ -469,46 +548,31 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
     o.render_backend = backend;
     return o;
   }();
-  std::vector<Job> jobs;
-  std::vector<size_t> todo;
-  std::vector<EpisodeHeader> committed;
-  size_t kept = 0;
-  for (const script::EpisodeSpec& spec : specs) {
+  std::vector<Job> jobs;  // this shard's (all without --shard), in split order
+  for (size_t number = 0; number < specs.size(); ++number) {
+    if (shard && !shard->owns(number)) continue;
+    const script::EpisodeSpec& spec = specs[number];
     Job job;
     job.spec = &spec;
+    job.number = number;
     job.task_id = task_ids.count(spec.task) ? task_ids.at(spec.task) : "";
     job.hash = script::spec_hash(spec);
     job.key = eval::episode_key(spec.task, r.policy, job.hash, spec.seed);
-    const auto done = finished.find(job.key);
-    if (done == finished.end()) {
-      todo.push_back(jobs.size());
-    } else if (done->second.at("kept").get<bool>()) {
-      const model::Robot& robot = model::robot_by_name(eval::scene_spec_from_episode(spec).robot);
-      committed.push_back(episode_header(spec, job.task_id, r.policy, robot, space, cameras, r.size, run_options.control_dt));
-      ++kept;
-    }
     jobs.push_back(std::move(job));
   }
-  CollectSummary summary;
-  summary.episodes = jobs.size();
-  summary.resumed = jobs.size() - todo.size();
-  summary.kept = kept;
-  if (todo.empty() && state.value("finished", false)) return summary;
+  const fs::path dir = r.out;
+  const auto make_writer = [&](const fs::path& folder) -> std::unique_ptr<DatasetWriter> {
+    if (r.dry_run) return std::make_unique<NullWriter>();
+    return make ? make(folder) : make_dataset_writer(r.format, folder);
+  };
+  // A shard stores its kept episodes (hribench/episodes/) for `hribench merge`, and writes no
+  // dataset files.
+  const bool storing = shard.has_value() && !r.dry_run;
 
-  std::unique_ptr<DatasetWriter> writer = r.dry_run ? std::make_unique<NullWriter>()
-                                          : make              ? make(dir)
-                                                              : make_dataset_writer(r.format, dir);
-  writer->resume(committed);
-
-  // Workers run episodes; the main thread commits them in order.
-  std::mutex mutex;
-  std::condition_variable ready_cv;
-  std::map<size_t, Finished> ready;  // by position in todo
-  std::atomic<size_t> next{0};
+  // Runs job j on a worker thread with the worker's policy, recording into `recorder`.
   std::atomic<bool> stop{false};
   std::atomic<int64_t> frames{0};
-  const auto run_job = [&](size_t position, std::unique_ptr<policy::Policy>& policy) {
-    const Job& job = jobs[todo[position]];
+  const auto run_job = [&](const Job& job, std::unique_ptr<policy::Policy>& policy, DatasetWriter& recorder) {
     Finished f;
     try {
       if (!policy) policy = std::make_unique<Float32Actions>(policy::make_policy(r.policy));
@@ -516,18 +580,18 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
       f.header = episode_header(*job.spec, job.task_id, r.policy, episode.model().robot, space, cameras, r.size,
                                 run_options.control_dt);
       try {
-        f.sink = writer->begin_episode(f.header);
+        f.sink = recorder.begin_episode(f.header);
       } catch (const std::exception& e) {
         f.write_error = e.what();
         stop = true;
         return f;
       }
-      FrameRecorder recorder(episode, f.header, *f.sink, backend);
-      episode.add_observer(recorder);
+      FrameRecorder frame_recorder(episode, f.header, *f.sink, backend);
+      episode.add_observer(frame_recorder);
       try {
         eval::run_episode(episode, *policy);
       } catch (const std::exception& e) {
-        if (!recorder.sink_failed()) throw;
+        if (!frame_recorder.sink_failed()) throw;
         f.write_error = e.what();
         stop = true;
         return f;
@@ -536,8 +600,8 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
       f.outcome.success = metrics.success;
       f.outcome.status = episode.log().status;
       for (eval::FailureLabel label : metrics.labels) f.outcome.failure_labels.emplace_back(eval::to_string(label));
-      f.outcome.frames = recorder.frames();
-      frames += recorder.frames();
+      f.outcome.frames = frame_recorder.frames();
+      frames += frame_recorder.frames();
       f.log = episode.log();
     } catch (const std::exception& e) {
       f.error = e.what();
@@ -545,62 +609,113 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
     }
     return f;
   };
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<std::thread> workers;
-  for (int w = 0; w < r.threads; ++w) {
-    workers.emplace_back([&] {
-      std::unique_ptr<policy::Policy> policy;
-      while (!stop) {
-        const size_t position = next++;
-        if (position >= todo.size()) break;
-        Finished f = run_job(position, policy);
-        const std::lock_guard<std::mutex> lock(mutex);
-        ready.emplace(position, std::move(f));
-        ready_cv.notify_all();
+
+  // Under mpirun the ranks other than 0 only run the episodes rank 0 hands them (eval/ranks.h):
+  // each kept one is stored, with its log, where rank 0 (or the merge of a shard) finds it.
+  const eval::Ranks ranks = eval::mpi_ranks();
+  if (ranks.distributed() && ranks.rank != 0) {
+    const std::unique_ptr<DatasetWriter> recorder = make_writer(staging_path(dir, ranks.rank));
+    std::vector<std::unique_ptr<policy::Policy>> policies(static_cast<size_t>(r.threads));
+    eval::serve_jobs(r.threads, [&](size_t j, int worker) {
+      Finished f = run_job(jobs.at(j), policies[static_cast<size_t>(worker)], *recorder);
+      const Job& job = jobs[j];
+      if (f.error.empty() && f.write_error.empty() && is_kept(f.outcome, r.keep) && !r.dry_run) {
+        try {
+          store_episode(*recorder, std::move(f.sink), dir, job.number);
+          eval::save_episode_log(f.log, collect_log_path(dir, job.spec->task, job.spec->seed, job.hash));
+          f.stored = true;
+        } catch (const std::exception& e) {
+          f.write_error = e.what();
+        }
       }
+      if (f.sink) recorder->discard(std::move(f.sink));
+      return reply_of(f);
     });
+    return CollectSummary{};
   }
-  // Commit in order; the first episode that failed stops the run after those before it.
+  eval::ReleaseWorkersOnError release(r.threads);
+
+  // The folder, and what a resumed run already did.
+  nlohmann::json state = r.dry_run ? nlohmann::json{{"episodes", nlohmann::json::array()}} : prepare_out(r, options);
+  std::map<std::string, nlohmann::json> finished;
+  for (const nlohmann::json& e : state.at("episodes")) finished.emplace(e.at("key").get<std::string>(), e);
+  std::vector<size_t> todo;  // into jobs
+  std::vector<EpisodeHeader> committed;
+  std::set<size_t> stored;   // a shard's kept episodes
+  size_t kept = 0;
+  for (size_t j = 0; j < jobs.size(); ++j) {
+    const Job& job = jobs[j];
+    const auto done = finished.find(job.key);
+    if (done == finished.end()) {
+      todo.push_back(j);
+    } else if (done->second.at("kept").get<bool>()) {
+      const model::Robot& robot = model::robot_by_name(eval::scene_spec_from_episode(*job.spec).robot);
+      committed.push_back(
+          episode_header(*job.spec, job.task_id, r.policy, robot, space, cameras, r.size, run_options.control_dt));
+      stored.insert(job.number);
+      ++kept;
+    }
+  }
+  CollectSummary summary;
+  summary.episodes = jobs.size();
+  summary.resumed = jobs.size() - todo.size();
+  summary.kept = kept;
+  if (todo.empty() && state.value("finished", false)) return summary;
+  if (!r.dry_run) remove_stored_but(dir, storing ? stored : std::set<size_t>{});
+
+  // The dataset (none in a shard), and the writer worker threads record into: the dataset's, or
+  // a scratch one whose episodes are stored.
+  std::unique_ptr<DatasetWriter> dataset;
+  if (!storing) {
+    dataset = make_writer(dir);
+    dataset->resume(committed);
+  }
+  const std::unique_ptr<DatasetWriter> scratch = storing ? make_writer(staging_path(dir, 0)) : nullptr;
+  DatasetWriter& recorder = storing ? *scratch : *dataset;
+
+  // Episodes are settled in split order: committed to the dataset (or stored) or discarded, and
+  // recorded in the state. The first episode that failed stops the run after those before it.
   std::string failure;
   const auto save_state = [&] {
     if (!r.dry_run) core::write_file_atomically(collect_state_path(dir), state.dump(1) + "\n");
   };
-  for (size_t position = 0; position < todo.size() && failure.empty(); ++position) {
-    Finished f;
-    {
-      std::unique_lock<std::mutex> lock(mutex);
-      ready_cv.wait(lock, [&] { return ready.count(position) > 0; });
-      f = std::move(ready.at(position));
-      ready.erase(position);
-    }
+  const auto start = std::chrono::steady_clock::now();
+  const auto settle = [&](size_t position, Finished& f) {
     const Job& job = jobs[todo[position]];
     if (!f.write_error.empty() || !f.error.empty()) {
-      if (f.sink) writer->discard(std::move(f.sink));
+      if (f.sink) recorder.discard(std::move(f.sink));
       failure = !f.write_error.empty()
                     ? fmt::format("cannot write episode {} ({} seed {}): {}; it is discarded", position + summary.resumed,
                                   job.spec->task, job.spec->seed, f.write_error)
                     : fmt::format("episode {} ({} seed {}): {}", position + summary.resumed, job.spec->task,
                                   job.spec->seed, f.error);
-      break;
+      return;
     }
-    // An episode that ended before its first action (a policy that failed at once) shows nothing.
-    const bool keep = f.outcome.frames >= 2 && (f.outcome.success || r.keep == "all");
     std::optional<size_t> index;
     try {
-      if (keep) {
-        writer->commit(std::move(f.sink), f.outcome);
+      if (is_kept(f.outcome, r.keep)) {
+        if (storing) {
+          if (f.sink) store_episode(recorder, std::move(f.sink), dir, job.number);
+        } else {
+          dataset->commit(f.sink ? std::move(f.sink) : dataset->load(stored_episode_path(dir, job.number)), f.outcome);
+        }
         index = kept++;
-        if (!r.dry_run) eval::save_episode_log(f.log, collect_log_path(dir, job.spec->task, job.spec->seed, job.hash));
-      } else {
-        writer->discard(std::move(f.sink));
+        if (!r.dry_run && !f.stored) {
+          eval::save_episode_log(f.log, collect_log_path(dir, job.spec->task, job.spec->seed, job.hash));
+        }
+        if (f.stored && !storing) fs::remove_all(stored_episode_path(dir, job.number));  // committed
+      } else if (f.sink) {
+        recorder.discard(std::move(f.sink));
       }
     } catch (const std::exception& e) {
       failure = fmt::format("cannot write episode {} ({} seed {}): {}", position + summary.resumed, job.spec->task,
                             job.spec->seed, e.what());
       stop = true;
-      break;
+      return;
     }
-    state.at("episodes").push_back(outcome_json(job, f.outcome, index));
+    nlohmann::json entry = outcome_json(job, f.outcome, index);
+    if (shard) entry["job"] = job.number;
+    state.at("episodes").push_back(std::move(entry));
     save_state();
     if (progress) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -609,13 +724,62 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
                 elapsed > 0 ? static_cast<double>(frames.load()) / elapsed : 0,
                 rate > 0 ? static_cast<double>(todo.size() - position - 1) / rate : 0});
     }
+  };
+
+  if (ranks.distributed()) {
+    // Rank 0: the other ranks run the episodes; their replies are settled in order as they come.
+    release.disarm();
+    std::map<size_t, Finished> arrived;  // by position in todo
+    size_t next_to_settle = 0;
+    eval::hand_out_jobs(todo, r.threads, [&] { return stop.load(); }, [&](size_t position, std::string_view reply) {
+      Finished f = finished_from_reply(reply, "the reply for episode " + jobs[todo[position]].key);
+      frames += f.outcome.frames;
+      arrived.emplace(position, std::move(f));
+      for (; failure.empty() && arrived.count(next_to_settle) > 0; ++next_to_settle) {
+        settle(next_to_settle, arrived.at(next_to_settle));
+        arrived.erase(next_to_settle);
+      }
+      if (!failure.empty()) stop = true;
+    });
+  } else {
+    // Worker threads run the episodes; this thread settles them in order.
+    std::mutex mutex;
+    std::condition_variable ready_cv;
+    std::map<size_t, Finished> ready;  // by position in todo
+    std::atomic<size_t> next{0};
+    std::vector<std::thread> workers;
+    for (int w = 0; w < r.threads; ++w) {
+      workers.emplace_back([&] {
+        std::unique_ptr<policy::Policy> policy;
+        while (!stop) {
+          const size_t position = next++;
+          if (position >= todo.size()) break;
+          Finished f = run_job(jobs[todo[position]], policy, recorder);
+          const std::lock_guard<std::mutex> lock(mutex);
+          ready.emplace(position, std::move(f));
+          ready_cv.notify_all();
+        }
+      });
+    }
+    for (size_t position = 0; position < todo.size() && failure.empty(); ++position) {
+      Finished f;
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        ready_cv.wait(lock, [&] { return ready.count(position) > 0; });
+        f = std::move(ready.at(position));
+        ready.erase(position);
+      }
+      settle(position, f);
+    }
+    stop = stop || !failure.empty();
+    for (std::thread& worker : workers) worker.join();
+    for (auto& [position, f] : ready) {
+      if (f.sink) recorder.discard(std::move(f.sink));
+    }
   }
-  stop = stop || !failure.empty();
-  for (std::thread& worker : workers) worker.join();
-  for (auto& [position, f] : ready) {
-    if (f.sink) writer->discard(std::move(f.sink));
-  }
-  writer->finish();
+  if (dataset) dataset->finish();
+  if (!r.dry_run) fs::remove_all(dir / "hribench" / "staging");
+  if (!r.dry_run && !storing) fs::remove_all(dir / "hribench" / "episodes");  // committed, or redone by a resume
   summary.kept = kept;
   summary.frames = frames.load();
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -623,10 +787,104 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
     save_state();
     throw core::InputError::Message(
         r.dry_run ? "collect" : r.out,
-        fmt::format("{}; the {} episodes before it are in the dataset; continue with --resume", failure, kept));
+        fmt::format("{}; the {} episodes before it are in the {}; continue with --resume", failure, kept,
+                    storing ? "shard" : "dataset"));
   }
   state["finished"] = true;
   save_state();
+  return summary;
+}
+
+bool holds_collect(const fs::path& dir) { return fs::is_regular_file(collect_state_path(dir)); }
+
+CollectSummary merge_collect(const fs::path& out, const std::vector<std::string>& dirs) {
+  std::error_code ec;
+  if (fs::exists(out, ec) && (!fs::is_directory(out, ec) || !fs::is_empty(out, ec))) {
+    throw core::InputError("OUT", "a new or empty folder for the merged dataset", "'" + out.string() + "'");
+  }
+  std::vector<eval::ShardOptions> folders;
+  std::vector<nlohmann::json> states;
+  for (const std::string& dir : dirs) {
+    if (!holds_collect(dir)) throw core::InputError::Message(dir, "holds no collect (hribench/collect.json)");
+    const std::string where = collect_state_path(dir).string();
+    nlohmann::json state = core::read_json_file(where);
+    if (!state.is_object() || !state.contains("options") || !state.at("episodes").is_array()) {
+      throw core::InputError(where, "a collect's state (options, episodes)", "other JSON");
+    }
+    folders.push_back({dir, state.at("options")});
+    states.push_back(std::move(state));
+  }
+  const std::vector<size_t> order = eval::shard_order(folders);
+  nlohmann::json options = eval::merged_options(folders[order.front()].options);
+  options.erase("code");
+  options.erase("backend");
+
+  // Each shard finished, holding exactly its episodes: by job number, the shard that holds it.
+  const size_t total = folders[order.front()].options.at("shard_of_jobs").get<size_t>();
+  std::vector<std::pair<size_t, nlohmann::json>> by_job(total);  // (folder, episode entry)
+  std::vector<bool> seen(total, false);
+  for (size_t i = 0; i < order.size(); ++i) {
+    const std::string& dir = folders[order[i]].dir;
+    const nlohmann::json& state = states[order[i]];
+    const eval::Shard shard{static_cast<int>(i), static_cast<int>(order.size())};
+    if (!state.value("finished", false)) {
+      throw core::InputError::Message(
+          dir, fmt::format("holds an unfinished collect; finish it with collect --shard {} --resume", eval::to_string(shard)));
+    }
+    for (const nlohmann::json& episode : state.at("episodes")) {
+      const nlohmann::json number = episode.value("job", nlohmann::json());
+      const size_t job = number.is_number_unsigned() ? number.get<size_t>() : total;
+      if (job >= total || !shard.owns(job) || seen[job]) {
+        throw core::InputError::Message(dir, fmt::format("holds episode {} ({}), which is not shard {}'s (or is there twice)",
+                                                         number.dump(), episode.value("key", ""), eval::to_string(shard)));
+      }
+      seen[job] = true;
+      by_job[job] = {order[i], episode};
+    }
+    const size_t share = eval::shard_share(total, shard);
+    if (state.at("episodes").size() != share) {
+      throw core::InputError::Message(dir, fmt::format("holds {} of its {} episodes; finish it with collect --shard {} --resume",
+                                                       state.at("episodes").size(), share, eval::to_string(shard)));
+    }
+  }
+
+  // The shards' kept episodes committed in split order, as one collect commits them.
+  const std::unique_ptr<DatasetWriter> writer = make_dataset_writer(options.at("format").get<std::string>(), out);
+  fs::create_directories(out / "hribench" / "logs");
+  nlohmann::json episodes = nlohmann::json::array();
+  CollectSummary summary;
+  summary.episodes = total;
+  const auto start = std::chrono::steady_clock::now();
+  for (size_t job = 0; job < total; ++job) {
+    const std::string& dir = folders[by_job[job].first].dir;
+    nlohmann::json episode = by_job[job].second;
+    const std::string where = collect_state_path(dir).string() + ": episode " + std::to_string(job);
+    episode.erase("job");
+    if (core::json_bool(core::json_member(episode, "kept", where), where + ".kept")) {
+      EpisodeOutcome outcome;
+      try {
+        outcome.success = episode.at("success").get<bool>();
+        outcome.status = core::episode_status_from_string(episode.at("status").get<std::string>(), where + ".status");
+        outcome.failure_labels = episode.at("labels").get<std::vector<std::string>>();
+        outcome.frames = episode.at("frames").get<int64_t>();
+        const fs::path log = collect_log_path(dir, episode.at("task").get<std::string>(), episode.at("seed").get<uint64_t>(),
+                                              episode.at("spec_hash").get<std::string>());
+        writer->commit(writer->load(stored_episode_path(dir, job)), outcome);
+        fs::copy_file(log, out / "hribench" / "logs" / log.filename());
+      } catch (const nlohmann::json::exception& e) {
+        throw core::InputError(where, "a collect's episode (success, status, labels, frames, task, seed, spec_hash)",
+                               e.what());
+      } catch (const fs::filesystem_error& e) {
+        throw core::InputError::Message(where, std::string("cannot copy its log: ") + e.what());
+      }
+      episode["index"] = summary.kept++;
+    }
+    episodes.push_back(std::move(episode));
+  }
+  writer->finish();
+  const nlohmann::json state = {{"options", options}, {"episodes", episodes}, {"finished", true}};
+  core::write_file_atomically(collect_state_path(out), state.dump(1) + "\n");
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }
 

@@ -14,6 +14,12 @@
 // it (io/replay.h) reproduces the episode's log bit for bit. The float32 rounding is the only
 // difference from `hribench eval` with the same policy (well under the actuators' resolution).
 //
+// Shards and ranks (docs/scale.md): with --shard i/N only every N-th episode of the split is
+// recorded, and each kept one is stored (DatasetWriter::store) in DIR/hribench/episodes/ instead
+// of committed: merge_collect commits the shards' stored episodes in split order into the dataset
+// one collect writes. Under mpirun, ranks 1..N-1 run the episodes and store the kept ones there;
+// rank 0 loads and commits them in split order as they come (eval/ranks.h).
+//
 // DIR/hribench/ holds the collector's own files: collect.json (the options and every finished
 // episode with its fate, rewritten atomically after each one, so --resume redoes nothing and
 // duplicates nothing) and logs/ (each kept episode's log, eval/episode_log.h, the proof a
@@ -132,6 +138,7 @@ struct CollectRequest {
   std::string action_space;              // --action-space; "": the policy's own
   std::string backend = "osmesa";        // --backend
   bool dry_run = false;  // --dry-run: render every frame, write nothing (no --out, no --format)
+  std::string shard;     // --shard i/N: this shard's episodes, stored for `hribench merge`; "": all
 };
 
 struct CollectProgress {
@@ -164,8 +171,23 @@ CollectSummary collect(const CollectRequest& request,
                        const std::function<void(const CollectProgress&)>& progress = nullptr,
                        const WriterMaker& make = nullptr);
 
+// Whether DIR holds a collect (DIR/hribench/collect.json).
+bool holds_collect(const std::filesystem::path& dir);
+
+// `hribench merge OUT SHARD_DIR...` of a sharded collect (collect --shard i/N, docs/scale.md):
+// writes into OUT (new or empty) the dataset and the hribench/ files (collect.json, logs) one
+// collect without --shard would have written, byte for byte, committing the shards' stored
+// episodes in split order. Throws core::InputError, before writing anything, for a folder that
+// is not a finished collect shard, a missing or repeated shard, shards with other options
+// (the format, the code that recorded them, ...) or a shard that does not hold exactly its
+// episodes; and for stored episodes that cannot be read. Returns the merged collect's summary
+// (episodes, kept).
+CollectSummary merge_collect(const std::filesystem::path& out, const std::vector<std::string>& dirs);
+
 // DIR/hribench/collect.json of a collect: {"options": {...}, "episodes": [{key, task, seed,
-// spec_hash, kept, index (in the dataset, kept ones), success, status, labels, frames}]}.
+// spec_hash, kept, index (in the dataset, kept ones), success, status, labels, frames}],
+// "finished"}; a shard's options add shard, shard_of_jobs, code and backend, and its episodes
+// their job number in the full split ("job").
 std::filesystem::path collect_state_path(const std::filesystem::path& dir);
 // DIR/hribench/logs/ file of a kept episode.
 std::filesystem::path collect_log_path(const std::filesystem::path& dir, const std::string& task, uint64_t seed,

@@ -7,7 +7,7 @@
 // commands of a document may read what earlier ones wrote) with HRIBENCH_ROOT naming the
 // repository (so tasks/, pool/ and tests/ are found as from anywhere), with absolute /tmp paths
 // moved into that folder and the sizes shrunk (one task, one episode, a 1 s horizon, a few candidates,
-// tiny images; servers and commands that need one are only checked against help): what is
+// tiny images, a collect of one episode; servers and commands that need one are only checked against help): what is
 // tested is that the command line is accepted and runs to the end.
 // Lines with placeholders (`[...]`, `A|B`, words like FILE or DIR, $VARIABLES) are templates: like inline
 // commands they are checked against `hribench help COMMAND`.
@@ -194,6 +194,10 @@ std::string small_version(const Shown& shown, const fs::path& dir) {
     set_option(w, "--eval", "1");
     set_option(w, "--test", "0");
     set_option(w, "--executable-by", "none");
+  } else if (command == "collect") {
+    set_option(w, "--tasks", "I1");
+    set_option(w, "--episodes", "1");
+    set_option(w, "--size", "16");
   } else if (command == "render") {
     set_option(w, "--width", "32");
     set_option(w, "--height", "24");

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::hribench::testing::count_lines;
+using ::hribench::testing::files_under;
 using ::hribench::testing::read_text;
 using ::hribench::testing::run_hribench;
 
@@ -149,6 +151,100 @@ TEST_F(MergeGenerationTest, DisagreeingOrIncompleteShardsAreRefused) {
   expect_refused("merge " + dir_ + "/m4 " + dir_ + "/full", dir_ + "/full: is not a shard run");
   expect_refused("generate --tasks I1 --shard 1/1 --out " + dir_ + "/bad",
                  "--shard: expected i/N with 0 <= i < N <= 100000 (e.g. 0/4), got '1/1'");
+}
+
+// Sharded collects: every format, 4 episodes over 3 shards (2, 1 and 1), frames of 64 px (x264
+// encodes smaller ones differently from one process to the next: docs/datasets.md).
+class MergeCollectTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  static void SetUpTestSuite() { dir_ = ::hribench::testing::temp_dir("merge", "collects"); }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static std::string collect(const std::string& format) {
+    return "collect --tasks C2,X3 --episodes 2 --size 64 --cameras wrist --keep all --threads 2 --format " + format +
+           " --out ";
+  }
+  static inline std::string dir_;
+};
+
+TEST_P(MergeCollectTest, MergedShardsEqualTheDatasetOneCollectWrites) {
+  const std::string format = GetParam();
+  const fs::path root = fs::path(dir_) / format;
+  ASSERT_EQ(run_hribench(collect(format) + (root / "full").string()).exit_code, 0);
+  for (int i = 0; i < 3; ++i) {
+    const auto r = run_hribench(collect(format) + (root / ("s" + std::to_string(i))).string() + " --shard " +
+                                std::to_string(i) + "/3");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  const fs::path out = root / "merged";
+  const auto r = run_hribench("merge " + out.string() + " " + (root / "s2").string() + " " + (root / "s0").string() +
+                              " " + (root / "s1").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("4 episodes, 4 in the dataset at " + out.string()), std::string::npos) << r.output;
+  const std::map<std::string, std::string> expected = files_under(root / "full");
+  const std::map<std::string, std::string> merged = files_under(out);
+  for (const auto& [path, bytes] : expected) {
+    EXPECT_TRUE(merged.count(path) > 0 && merged.at(path) == bytes) << path << " differs or is missing";
+  }
+  EXPECT_EQ(merged.size(), expected.size());
+  EXPECT_GE(expected.size(), 6u);  // the dataset's files, collect.json and four logs
+  // A shard writes no dataset files: its kept episodes wait in hribench/episodes/ for the merge.
+  EXPECT_TRUE(fs::is_directory(root / "s1" / "hribench" / "episodes"));
+  for (const auto& entry : fs::directory_iterator(root / "s1")) EXPECT_EQ(entry.path().filename(), "hribench");
+  EXPECT_NE(read_text(root / "s1" / "hribench" / "collect.json").find("\"shard\": \"1/3\""), std::string::npos);
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, MergeCollectTest, ::testing::Values("lerobot", "lerobot-v3", "act-hdf5", "robomimic"),
+                         [](const ::testing::TestParamInfo<std::string>& param) {
+                           std::string name = param.param;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
+
+TEST(MergeCollect, DisagreeingOrIncompleteShardsAreRefused) {
+  const fs::path root = ::hribench::testing::temp_dir("merge", "collect_refusals");
+  const std::string collect = "collect --tasks C2 --episodes 2 --size 32 --cameras wrist --format act-hdf5 --out ";
+  for (int i = 0; i < 2; ++i) {
+    const std::string shard = std::to_string(i) + "/2";
+    ASSERT_EQ(run_hribench(collect + (root / ("s" + std::to_string(i))).string() + " --shard " + shard).exit_code, 0);
+  }
+  const auto expect_refused = [&](const std::string& args, const std::string& message, const std::string& out) {
+    const auto r = run_hribench("merge " + (root / out).string() + " " + args);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_EQ(count_lines(r.output), 1) << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(root / out)) << out;
+  };
+  const std::string s0 = (root / "s0").string(), s1 = (root / "s1").string();
+  expect_refused(s0, "merge: shard 1/2 is missing", "m1");
+  // Another format.
+  std::string robomimic = collect;
+  robomimic.replace(robomimic.find("act-hdf5"), 8, "robomimic");
+  ASSERT_EQ(run_hribench(robomimic + (root / "s1_robomimic").string() + " --shard 1/2").exit_code, 0);
+  expect_refused(s0 + " " + (root / "s1_robomimic").string(),
+                 (root / "s1_robomimic").string() + ": ran with other options than " + s0 + " (format)", "m2");
+  // A shard that did not finish, and one that lost an episode.
+  fs::copy(s1, root / "s1_unfinished", fs::copy_options::recursive);
+  const fs::path state = root / "s1_unfinished" / "hribench" / "collect.json";
+  std::string text = read_text(state);
+  text.replace(text.find("\"finished\": true"), 16, "\"finished\": false");
+  std::ofstream(state, std::ios::trunc) << text;
+  expect_refused(s0 + " " + (root / "s1_unfinished").string(),
+                 (root / "s1_unfinished").string() + ": holds an unfinished collect; finish it with collect --shard 1/2 "
+                                                     "--resume",
+                 "m3");
+  // The whole collect is not a shard; an eval shard is no collect.
+  ASSERT_EQ(run_hribench(collect + (root / "whole").string()).exit_code, 0);
+  expect_refused((root / "whole").string(), (root / "whole").string() + ": is not a shard run", "m4");
+  ASSERT_EQ(run_hribench("eval --tasks C2 --policy noop --episodes 1 --horizon 1 --shard 1/2 --out " +
+                         (root / "eval_s1").string()).exit_code, 0);
+  expect_refused(s0 + " " + (root / "eval_s1").string(),
+                 (root / "eval_s1").string() + ": holds no collect (hribench/collect.json)", "m5");
+  const auto into_a_shard = run_hribench("merge " + s0 + " " + s0 + " " + s1);
+  EXPECT_EQ(into_a_shard.exit_code, 2);
+  EXPECT_NE(into_a_shard.output.find("OUT: expected a new or empty folder for the merged dataset, got '" + s0 + "'"),
+            std::string::npos)
+      << into_a_shard.output;
+  fs::remove_all(root);
 }
 
 }  // namespace

@@ -98,7 +98,7 @@ TEST(Shard, MergeRefusesShardsThatDisagree) {
   EXPECT_EQ(error_of([&] { merge_shards(shards); }), "runs/s1: is a shard of 6 jobs, runs/s0 of 5");
   shards[0].options.erase("shard");
   EXPECT_EQ(error_of([&] { merge_shards(shards); }),
-            "runs/s0: is not a shard run (its options.json has no \"shard\" and \"shard_of_jobs\")");
+            "runs/s0: is not a shard run (its options have no \"shard\" and \"shard_of_jobs\")");
 }
 
 }  // namespace
