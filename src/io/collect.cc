@@ -808,8 +808,13 @@ CollectSummary merge_collect(const fs::path& out, const std::vector<std::string>
     if (!holds_collect(dir)) throw core::InputError::Message(dir, "holds no collect (hribench/collect.json)");
     const std::string where = collect_state_path(dir).string();
     nlohmann::json state = core::read_json_file(where);
-    if (!state.is_object() || !state.contains("options") || !state.at("episodes").is_array()) {
-      throw core::InputError(where, "a collect's state (options, episodes)", "other JSON");
+    const auto objects = [](const nlohmann::json& list) {
+      return std::all_of(list.begin(), list.end(), [](const nlohmann::json& e) { return e.is_object(); });
+    };
+    if (!state.is_object() || !state.contains("options") || !state.contains("episodes") ||
+        !state.at("episodes").is_array() || !objects(state.at("episodes")) ||
+        !state.value("finished", nlohmann::json(false)).is_boolean()) {
+      throw core::InputError(where, "a collect's state (options, episodes, finished)", "other JSON");
     }
     folders.push_back({dir, state.at("options")});
     states.push_back(std::move(state));
@@ -819,10 +824,9 @@ CollectSummary merge_collect(const fs::path& out, const std::vector<std::string>
   options.erase("code");
   options.erase("backend");
 
-  // Each shard finished, holding exactly its episodes: by job number, the shard that holds it.
+  // Each shard finished, holding exactly its episodes (checked before anything is sized by the
+  // job count); by job number, the shard that holds it.
   const size_t total = folders[order.front()].options.at("shard_of_jobs").get<size_t>();
-  std::vector<std::pair<size_t, nlohmann::json>> by_job(total);  // (folder, episode entry)
-  std::vector<bool> seen(total, false);
   for (size_t i = 0; i < order.size(); ++i) {
     const std::string& dir = folders[order[i]].dir;
     const nlohmann::json& state = states[order[i]];
@@ -831,25 +835,34 @@ CollectSummary merge_collect(const fs::path& out, const std::vector<std::string>
       throw core::InputError::Message(
           dir, fmt::format("holds an unfinished collect; finish it with collect --shard {} --resume", eval::to_string(shard)));
     }
-    for (const nlohmann::json& episode : state.at("episodes")) {
-      const nlohmann::json number = episode.value("job", nlohmann::json());
-      const size_t job = number.is_number_unsigned() ? number.get<size_t>() : total;
-      if (job >= total || !shard.owns(job) || seen[job]) {
-        throw core::InputError::Message(dir, fmt::format("holds episode {} ({}), which is not shard {}'s (or is there twice)",
-                                                         number.dump(), episode.value("key", ""), eval::to_string(shard)));
-      }
-      seen[job] = true;
-      by_job[job] = {order[i], episode};
-    }
     const size_t share = eval::shard_share(total, shard);
     if (state.at("episodes").size() != share) {
       throw core::InputError::Message(dir, fmt::format("holds {} of its {} episodes; finish it with collect --shard {} --resume",
                                                        state.at("episodes").size(), share, eval::to_string(shard)));
     }
   }
+  std::vector<std::pair<size_t, nlohmann::json>> by_job(total);  // (folder, episode entry)
+  std::vector<bool> seen(total, false);
+  for (size_t i = 0; i < order.size(); ++i) {
+    const std::string& dir = folders[order[i]].dir;
+    const eval::Shard shard{static_cast<int>(i), static_cast<int>(order.size())};
+    for (const nlohmann::json& episode : states[order[i]].at("episodes")) {
+      const nlohmann::json number = episode.value("job", nlohmann::json());
+      const size_t job = number.is_number_unsigned() ? number.get<size_t>() : total;
+      if (job >= total || !shard.owns(job) || seen[job]) {
+        throw core::InputError::Message(dir, fmt::format("holds episode {} (key {}), which is not shard {}'s (or is there twice)",
+                                                         number.dump(), episode.value("key", nlohmann::json()).dump(),
+                                                         eval::to_string(shard)));
+      }
+      seen[job] = true;
+      by_job[job] = {order[i], episode};
+    }
+  }
 
   // The shards' kept episodes committed in split order, as one collect commits them.
-  const std::unique_ptr<DatasetWriter> writer = make_dataset_writer(options.at("format").get<std::string>(), out);
+  const std::string options_of = collect_state_path(folders[order.front()].dir).string() + ": options";
+  const std::unique_ptr<DatasetWriter> writer = make_dataset_writer(
+      core::json_string(core::json_member(options, "format", options_of), options_of + ".format"), out);
   fs::create_directories(out / "hribench" / "logs");
   nlohmann::json episodes = nlohmann::json::array();
   CollectSummary summary;

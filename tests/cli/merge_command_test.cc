@@ -232,6 +232,13 @@ TEST(MergeCollect, DisagreeingOrIncompleteShardsAreRefused) {
                  (root / "s1_unfinished").string() + ": holds an unfinished collect; finish it with collect --shard 1/2 "
                                                      "--resume",
                  "m3");
+  // A state that is no collect's.
+  fs::copy(s1, root / "s1_bad", fs::copy_options::recursive);
+  std::ofstream(root / "s1_bad" / "hribench" / "collect.json", std::ios::trunc) << R"({"options": {}, "episodes": [3]})";
+  expect_refused(s0 + " " + (root / "s1_bad").string(),
+                 (root / "s1_bad" / "hribench" / "collect.json").string() +
+                     ": expected a collect's state (options, episodes, finished), got other JSON",
+                 "m6");
   // The whole collect is not a shard; an eval shard is no collect.
   ASSERT_EQ(run_hribench(collect + (root / "whole").string()).exit_code, 0);
   expect_refused((root / "whole").string(), (root / "whole").string() + ": is not a shard run", "m4");
