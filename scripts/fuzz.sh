@@ -7,6 +7,7 @@
 # Needs two Debian packages beyond deps/debian-packages.txt:
 #   apt-get install clang-14 libclang-rt-14-dev
 # Usage: scripts/fuzz.sh [SECONDS] [TARGET...]   (targets: the fuzz/*_fuzz.cc names)
+#   RUNS=10000000 scripts/fuzz.sh 3600 bvh        # stop at 10 million executions (or 3600 s)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${HRIBENCH_FUZZ_DIR:-$root/build-fuzz}"
@@ -25,7 +26,7 @@ for t in "${targets[@]}"; do
   log="$build/logs/$t.log"
   # Leaks are not crashes here: MuJoCo's and yaml-cpp's process-lifetime allocations are kept.
   if ! ASAN_OPTIONS="detect_leaks=0:${ASAN_OPTIONS:-}" "$build/fuzz/fuzz_$t" -max_total_time="$seconds" \
-      -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+      -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 ${RUNS:+-runs=$RUNS} \
       -artifact_prefix="$build/crashes/$t/" "$build/corpus/$t" "$root/fuzz/corpus/$t" >"$log" 2>&1; then
     failed=1
     echo "$t: CRASH (see $log and $build/crashes/$t/)"

@@ -87,7 +87,7 @@ core::Json options_json(const GenerateOptions& o, const core::Json& generator, s
   core::Json options = generator;
   options["shard"] = eval::to_string(*o.shard);
   options["shard_of_jobs"] = jobs;
-  options["code"] = fmt::format("HRIBench {} (git {})", core::version(), core::git_hash());
+  options["code"] = core::code_identity();
   return options;
 }
 

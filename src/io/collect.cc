@@ -523,21 +523,20 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
     for (const std::string& camera : cameras) render::camera_id(*model.m(), camera, "--cameras");
   }
   nlohmann::json options = {{"pool", r.pool},
-                                  {"pool_version", manifest.pool_version},
-                                  {"split", r.split},
-                                  {"policy", r.policy},
-                                  {"cameras", cameras},
-                                  {"size", r.size},
-                                  {"format", r.format},
-                                  {"tasks", tasks},
-                                  {"episodes", r.episodes},
-                                  {"keep", r.keep},
-                                  {"action_space", std::string(policy::to_string(space))}};
-
+                            {"pool_version", manifest.pool_version},
+                            {"split", r.split},
+                            {"policy", r.policy},
+                            {"cameras", cameras},
+                            {"size", r.size},
+                            {"format", r.format},
+                            {"tasks", tasks},
+                            {"episodes", r.episodes},
+                            {"keep", r.keep},
+                            {"action_space", std::string(policy::to_string(space))}};
   if (shard) {
     options["shard"] = eval::to_string(*shard);
     options["shard_of_jobs"] = specs.size();
-    options["code"] = fmt::format("HRIBench {} (git {})", core::version(), core::git_hash());
+    options["code"] = core::code_identity();
     options["backend"] = r.backend;
   }
   std::map<std::string, std::string> task_ids;
