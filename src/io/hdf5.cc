@@ -394,7 +394,7 @@ std::unique_ptr<FileSink> load_stored(const fs::path& folder, const char* format
                                       const std::function<fs::path(const EpisodeHeader&)>& into, const char* stem) {
   const std::string where = (folder / "episode.json").string();
   const nlohmann::json stored = core::read_json_file(where);
-  if (!stored.is_object() || stored.value("format", "") != format) {
+  if (!stored.is_object() || stored.value("format", nlohmann::json()) != format) {
     throw core::InputError(where, std::string("an episode stored by the ") + format + " writer", "other JSON");
   }
   EpisodeHeader header = episode_header_from_json(core::json_member(stored, "header", where), where + ": header");

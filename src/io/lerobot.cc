@@ -725,7 +725,7 @@ class LeRobotWriter : public DatasetWriter {
   std::unique_ptr<EpisodeSink> load(const fs::path& folder) override {
     const std::string where = (folder / "episode.json").string();
     const Json stored = core::read_json_file(where);
-    if (!stored.is_object() || stored.value("format", "") != "lerobot") {
+    if (!stored.is_object() || stored.value("format", Json()) != "lerobot") {
       throw core::InputError(where, "an episode stored by the LeRobot writer", "other JSON");
     }
     EpisodeHeader header = episode_header_from_json(core::json_member(stored, "header", where), where + ": header");
@@ -805,7 +805,6 @@ class LeRobotWriter : public DatasetWriter {
   }
 
  public:
-
   void commit(std::unique_ptr<EpisodeSink> sink_in, const EpisodeOutcome& outcome) override {
     usable();
     HRIB_CHECK(opened_) << "commit of an episode begun by this writer";
