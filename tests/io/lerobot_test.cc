@@ -22,7 +22,6 @@ namespace {
 namespace fs = std::filesystem;
 using core::Json;
 using testing::error_of;
-using testing::files_under;
 using testing::probe_video;
 using testing::read_text;
 using testing::temp_dir;
@@ -656,12 +655,7 @@ TEST(LeRobot, StoredEpisodesCommittedByAnotherWriterGiveTheSameDatasetByteForByt
       writer->commit(writer->load(stored / std::to_string(e)), outcome);
     }
     writer->finish();
-    const std::map<std::string, std::string> expected = files_under(direct);
-    const std::map<std::string, std::string> got = files_under(merged);
-    for (const auto& [name, bytes] : expected) {
-      EXPECT_TRUE(got.count(name) > 0 && got.at(name) == bytes) << name << " differs or is missing";
-    }
-    EXPECT_EQ(got.size(), expected.size());
+    testing::expect_same_files(merged, direct);
     // Loading leaves the stored episode as it was; a folder without one is refused.
     EXPECT_TRUE(fs::exists(stored / "0" / "episode.json"));
     EXPECT_TRUE(fs::exists(stored / "0" / "agentview.mp4"));

@@ -31,6 +31,23 @@ inline std::map<std::string, std::string> files_under(const std::filesystem::pat
   return files;
 }
 
+// Expects the files under `got` to be those under `expected`, byte for byte: each differing,
+// missing or extra file is a failure naming it. Returns how many files `expected` holds.
+inline size_t expect_same_files(const std::filesystem::path& got, const std::filesystem::path& expected) {
+  const std::map<std::string, std::string> want = files_under(expected);
+  const std::map<std::string, std::string> have = files_under(got);
+  for (const auto& [path, bytes] : want) {
+    const auto found = have.find(path);
+    if (found == have.end()) {
+      ADD_FAILURE() << path << " is missing";
+    } else {
+      EXPECT_TRUE(found->second == bytes) << path << " differs";
+    }
+  }
+  for (const auto& [path, bytes] : have) EXPECT_TRUE(want.count(path) > 0) << path << " is extra";
+  return want.size();
+}
+
 // A fresh, empty folder path under the test temp dir, unique per prefix, name and process.
 inline std::string temp_dir(const std::string& prefix, const std::string& name) {
   const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) /
