@@ -58,6 +58,20 @@ struct KneeBend {
   double thigh = 0;
   double shin = 0;
 };
+// The x coordinate of core::axis_angle(+y, angle) * v, to the bit, without the quaternion: the
+// products that Eigen's rotation of a vector by the quaternion (cos(angle/2), sin(angle/2) +y)
+// makes for x, less its exact zero terms (v + 2w (q x v) + 2 q x (q x v)). knee_bend's
+// bisection calls it 120 times per lean, and a lean is solved dozens of times per physics step
+// (docs/performance.md "A leaning person's pose").
+double x_turned_about_y(double angle, const Vec3& v) {
+  const double half = 0.5 * angle;
+  const double c = std::cos(half);
+  const double s = std::sin(half);
+  const double uv_x = 2 * (s * v.z());
+  const double uv_z = 2 * -(s * v.x());
+  return (v.x() + c * uv_x) + s * uv_z;
+}
+
 KneeBend knee_bend(const Skeleton& k, double forward, double crouch) {
   if (forward <= 0 || crouch <= 0) return {};
   const double flex = std::min(crouch * kKneePerLean * forward, kMaxKneeBend);
@@ -66,8 +80,7 @@ KneeBend knee_bend(const Skeleton& k, double forward, double crouch) {
   // Forward distance of the ankle from the hip with the thigh tilted forward by b (increasing
   // in b), and at rest.
   const auto ahead = [&](double b) {
-    return Vec3(core::axis_angle(Vec3::UnitY(), -b) * thigh).x() +
-           Vec3(core::axis_angle(Vec3::UnitY(), flex - b) * shin).x();
+    return x_turned_about_y(-b, thigh) + x_turned_about_y(flex - b, shin);
   };
   const double rest = thigh.x() + shin.x();
   double lo = 0;
@@ -188,9 +201,8 @@ void lean_spine(const Skeleton& skeleton, SkeletonPose& pose, const Vec3& direct
   const double forward = angle * h.normalized().x();  // the sagittal part, rad
   const auto joint = [&](Joint j) -> Quat& { return pose.local[static_cast<size_t>(index(j))]; };
   const auto ankle_mid = [&] {
-    const auto X = forward_kinematics(skeleton, pose);
-    return Vec3(0.5 * (X[static_cast<size_t>(index(Joint::kLeftAnkle))].translation +
-                       X[static_cast<size_t>(index(Joint::kRightAnkle))].translation));
+    return Vec3(0.5 * (joint_pose(skeleton, pose, Joint::kLeftAnkle).translation +
+                       joint_pose(skeleton, pose, Joint::kRightAnkle).translation));
   };
   const Vec3 feet = ankle_mid();
   // 40 % of the forward/backward part at the hips: the pelvis pitches and the thighs are
@@ -230,8 +242,7 @@ double lean_for_reach(const Skeleton& skeleton, const SkeletonPose& pose, Side s
   const auto excess = [&](double angle) {
     SkeletonPose p = pose;
     lean_spine(skeleton, p, dir, angle, crouch);
-    const auto X = forward_kinematics(skeleton, p);
-    return (wrist - X[static_cast<size_t>(index(shoulder(side)))].translation).norm() - reach;
+    return (wrist - joint_pose(skeleton, p, shoulder(side)).translation).norm() - reach;
   };
   if (excess(0) <= 0) return 0;
   if (excess(max_lean) > 0) return max_lean;

@@ -232,8 +232,7 @@ void set_neck(SkeletonPose& pose, double yaw, double extension) {
 
 // Centre of the head capsule (human/skeleton.cc) in world.
 Vec3 head_centre(const Skeleton& k, const SkeletonPose& pose) {
-  const auto X = forward_kinematics(k, pose);
-  return X[static_cast<size_t>(index(Joint::kNeck))] * Vec3(0.01 * k.scale, 0, 0.10 * k.scale);
+  return joint_pose(k, pose, Joint::kNeck) * Vec3(0.01 * k.scale, 0, 0.10 * k.scale);
 }
 
 // The largest lean (rad, <= kMaxLean) toward `dir` (pelvis frame, horizontal unit) with that

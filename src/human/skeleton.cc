@@ -167,6 +167,20 @@ std::array<core::Pose, kNumJoints> forward_kinematics(const Skeleton& skeleton,
   return X_WJ;
 }
 
+core::Pose joint_pose(const Skeleton& skeleton, const SkeletonPose& pose, Joint joint) {
+  std::array<size_t, kNumJoints> chain;  // the joint, its parent, ..., below the pelvis
+  size_t n = 0;
+  for (int j = index(joint); j > 0; j = kParents[static_cast<size_t>(j)]) {
+    chain[n++] = static_cast<size_t>(j);
+  }
+  core::Pose X_WJ = pose.X_WP;
+  while (n > 0) {
+    const size_t uj = chain[--n];
+    X_WJ = X_WJ * core::Pose{pose.local[uj], skeleton.offset[uj]};
+  }
+  return X_WJ;
+}
+
 std::vector<BodyCapsule> body_capsules(const Skeleton& k) {
   const double s = k.scale;
   const auto off = [&](Joint j) { return k.offset[index(j)]; };

@@ -93,6 +93,10 @@ struct SkeletonPose {
 // World pose of every joint frame: X_WJ = X_W,parent * (local[j], offset[j]).
 std::array<core::Pose, kNumJoints> forward_kinematics(const Skeleton& skeleton,
                                                       const SkeletonPose& pose);
+// World pose of one joint frame, forward_kinematics(skeleton, pose)[index(joint)] to the bit:
+// the same products in the same order, along the joint's own chain only (3-7 of the 21). For
+// the inner loops of the lean (human/motion.cc), which need an ankle, a shoulder or the neck.
+core::Pose joint_pose(const Skeleton& skeleton, const SkeletonPose& pose, Joint joint);
 
 // A capsule of the human body, rigidly attached to one joint frame.
 struct BodyCapsule {

@@ -57,6 +57,24 @@ TEST(SkeletonTest, ForwardKinematicsPreservesBoneLengthsUnderRotation) {
   EXPECT_LT(X[index(Joint::kLeftHip)].translation.y(), 0.2);
 }
 
+// joint_pose is forward_kinematics' entry to the bit (the lean's inner loops use it, and
+// episodes must not change: docs/performance.md), for every joint of a pose that turns them all.
+TEST(SkeletonTest, OneJointsPoseIsForwardKinematicsToTheBit) {
+  const Skeleton k = Skeleton::FromHeight(1.63);
+  SkeletonPose pose = SkeletonPose::Standing(k, 0.7, -0.4, 2.1);
+  for (int j = 1; j < kNumJoints; ++j) {
+    pose.local[static_cast<size_t>(j)] =
+        core::axis_angle(core::Vec3(0.2 * j, 1 - 0.05 * j, 0.3), 0.07 * j - 0.6);
+  }
+  const auto X = forward_kinematics(k, pose);
+  for (int j = 0; j < kNumJoints; ++j) {
+    const core::Pose one = joint_pose(k, pose, static_cast<Joint>(j));
+    const core::Pose& all = X[static_cast<size_t>(j)];
+    EXPECT_EQ(one.translation, all.translation) << joint_name(static_cast<Joint>(j));
+    EXPECT_EQ(one.rotation.coeffs(), all.rotation.coeffs()) << joint_name(static_cast<Joint>(j));
+  }
+}
+
 TEST(SkeletonTest, RejectsImpossibleHeights) {
   EXPECT_THROW(Skeleton::FromHeight(0.3), core::InputError);
   EXPECT_THROW(Skeleton::FromHeight(std::nan("")), core::InputError);
