@@ -1,5 +1,6 @@
 // Cost of each render setting on the default scene (OSMesa/llvmpipe), for docs/rendering.md:
-// our settings (no shadows, reflections, skybox or MSAA), then each one turned on alone, then
+// our settings (no shadows, reflections, skybox or MSAA; coarser shapes), then each one turned
+// on alone (MuJoCo's tessellation of capsules, spheres and cylinders for the shapes), then
 // MuJoCo's defaults. Shadows need lights that cast them, so the shadow rows use a scene built
 // with SceneSpec::shadows = true (every other row uses the default scene).
 //
@@ -16,11 +17,13 @@
 namespace hribench::render {
 namespace {
 
-enum Variant { kOurs, kShadows, kReflections, kSkybox, kMsaa4, kMujocoDefaults, kNumVariants };
+enum Variant {
+  kOurs, kShadows, kReflections, kSkybox, kMsaa4, kMujocoShapes, kMujocoDefaults, kNumVariants
+};
 
 const char* variant_name(int v) {
   static const char* const kNames[kNumVariants] = {
-      "ours", "+shadows", "+reflections", "+skybox", "+msaa4", "mujoco_defaults"};
+      "ours", "+shadows", "+reflections", "+skybox", "+msaa4", "+mujoco_shapes", "mujoco_defaults"};
   return kNames[v];
 }
 
@@ -36,6 +39,10 @@ void BM_RenderAgentview(benchmark::State& state) {
   if (variant == kReflections) settings.reflections = true;
   if (variant == kSkybox) settings.skybox = true;
   if (variant == kMsaa4) settings.multisamples = 4;
+  if (variant == kMujocoShapes) {
+    settings.shape_slices = RenderSettings::mujoco_defaults().shape_slices;
+    settings.shape_stacks = RenderSettings::mujoco_defaults().shape_stacks;
+  }
   if (variant == kMujocoDefaults) settings = RenderSettings::mujoco_defaults();
   auto renderer = make_renderer(Backend::kOsmesa, *model.m(), size, size, settings);
   Image image;
@@ -49,7 +56,7 @@ void BM_RenderAgentview(benchmark::State& state) {
                                              benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_RenderAgentview)
-    ->ArgsProduct({{128, 224}, {kOurs, kShadows, kReflections, kSkybox, kMsaa4, kMujocoDefaults}})
+    ->ArgsProduct({{128, 224}, {kOurs, kShadows, kReflections, kSkybox, kMsaa4, kMujocoShapes, kMujocoDefaults}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -65,6 +65,7 @@ struct RenderOptions {
   int height = 480;
   std::string backend = "osmesa";
   bool pretty = false;  // shadows and MuJoCo's default render settings (4x MSAA)
+  bool mujoco_shapes = false;  // MuJoCo's tessellation of capsules, spheres and cylinders
   FreeView view;
   // A task moment (empty task: the default scene).
   std::string task;
@@ -331,9 +332,14 @@ int run_render(const RenderOptions& o, bool view_given, bool task_options_given)
   }
   const sim::Data& data = episode ? episode->data() : *still;
 
-  auto renderer = render::make_renderer(
-      backend, m, o.width, o.height,
-      o.pretty ? render::RenderSettings::mujoco_defaults() : render::RenderSettings{});
+  render::RenderSettings settings =
+      o.pretty ? render::RenderSettings::mujoco_defaults() : render::RenderSettings{};
+  if (o.mujoco_shapes) {
+    const render::RenderSettings mujoco = render::RenderSettings::mujoco_defaults();
+    settings.shape_slices = mujoco.shape_slices;
+    settings.shape_stacks = mujoco.shape_stacks;
+  }
+  auto renderer = render::make_renderer(backend, m, o.width, o.height, settings);
   render::Image image;
   renderer->render(m, *data.mj, camera, image);
   render::write_png(o.out, image);
@@ -358,6 +364,9 @@ HRIB_REGISTER_COMMAND(
           ->capture_default_str();
       app.add_flag("--pretty", options->pretty,
                    "shadows and anti-aliasing (MuJoCo's render defaults), for documentation");
+      app.add_flag("--mujoco-shapes", options->mujoco_shapes,
+                   "capsules, spheres and cylinders with MuJoCo's finer tessellation (what policies "
+                   "see uses ours; docs/rendering.md)");
       auto* azimuth = app.add_option("--azimuth", options->view.azimuth,
                                      "free camera: azimuth, deg")
                           ->capture_default_str();

@@ -18,6 +18,8 @@ RenderSettings RenderSettings::mujoco_defaults() {
   s.reflections = true;
   s.skybox = true;
   s.multisamples = 4;
+  s.shape_slices = 0;
+  s.shape_stacks = 0;
   return s;
 }
 
@@ -130,9 +132,11 @@ Renderer::Renderer(Backend backend, const mjModel& m, int width, int height,
     : backend_(backend), width_(width), height_(height), settings_(settings) {
   check_image_size(width, height);
   HRIB_CHECK(settings.multisamples >= 0 && settings.shadow_map_size >= 0 &&
+             settings.shape_slices >= 0 && settings.shape_stacks >= 0 &&
              settings.font_scale >= 50 && settings.font_scale <= 300 &&
              settings.font_scale % 50 == 0)
       << "multisamples " << settings.multisamples << ", shadow map " << settings.shadow_map_size
+      << ", shapes " << settings.shape_slices << "x" << settings.shape_stacks
       << ", font scale " << settings.font_scale;
   mjv_defaultOption(&option_);
   mjv_defaultCamera(&camera_);
@@ -155,6 +159,9 @@ Renderer::Renderer(Backend backend, const mjModel& m, int width, int height,
   sized.vis.quality.offsamples = settings.multisamples;
   if (settings.shadow_map_size > 0) sized.vis.quality.shadowsize = settings.shadow_map_size;
   if (!settings.shadows) sized.vis.quality.shadowsize = 1;  // no shadow map memory or cost
+  // mjr_makeContext builds the shapes' display lists from these.
+  if (settings.shape_slices > 0) sized.vis.quality.numslices = settings.shape_slices;
+  if (settings.shape_stacks > 0) sized.vis.quality.numstacks = settings.shape_stacks;
   // mju_user_error is process-global and MuJoCo's GL loading is not thread-safe: under the lock
   // a concurrent constructor can neither see the throwing handler as "previous" nor leave it
   // installed.

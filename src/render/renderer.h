@@ -13,8 +13,9 @@
 // (see gl_context.h). Not copyable.
 //
 // Settings are chosen for speed on llvmpipe (docs/rendering.md has the measurements): no
-// shadows, no reflections, no skybox, no multisampling. RenderSettings::mujoco_defaults() gives
-// MuJoCo's own defaults for comparison.
+// shadows, no reflections, no skybox, no multisampling, and capsules, spheres and cylinders
+// drawn with fewer triangles. RenderSettings::mujoco_defaults() gives MuJoCo's own defaults for
+// comparison.
 
 #include <mujoco/mujoco.h>
 
@@ -50,8 +51,13 @@ struct RenderSettings {
   int multisamples = 0;      // MSAA samples of the offscreen buffer (MuJoCo's default is 4)
   int shadow_map_size = 0;   // shadow map side when shadows are on; 0: the model's value
   int font_scale = 50;       // mjtFontScale of the text render_panels draws (50, 100, 150, ...)
+  // Tessellation of MuJoCo's built-in shapes (vis.quality.numslices / numstacks): slices around
+  // a capsule, sphere or cylinder, stacks from pole to pole. 0: the model's value (MuJoCo's
+  // default, as the scene does not set it). Ours is about half the vertices' cost per frame.
+  int shape_slices = 16;
+  int shape_stacks = 8;
 
-  // MuJoCo 2.2.2's defaults (shadows, reflections, skybox, 4x MSAA).
+  // MuJoCo 2.2.2's defaults (shadows, reflections, skybox, 4x MSAA, its tessellation).
   static RenderSettings mujoco_defaults();
 };
 

@@ -1,12 +1,14 @@
 // Tests of `hribench render`: a small still is written and readable; every kind of bad input
 // (unknown flag, impossible size, unknown camera, unwritable path, unknown or none back end,
-// no usable GL context) is one clear line and exit code 2. Task moments (--task/--at): a still
-// of an event moment is written, is not blank and differs from the episode's start; bad --at,
-// unknown events, bad task files and misplaced options are one line and exit code 2.
+// no usable GL context) is one clear line and exit code 2; --mujoco-shapes changes only edge
+// pixels. Task moments (--task/--at): a still of an event moment is written, is not blank and
+// differs from the episode's start; bad --at, unknown events, bad task files and misplaced
+// options are one line and exit code 2.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -55,6 +57,29 @@ TEST(RenderCommandTest, WritesAReadablePng) {
   EXPECT_EQ(image.width, 64);
   EXPECT_EQ(image.height, 48);
   std::remove(out.c_str());
+}
+
+// --mujoco-shapes draws capsules, spheres and cylinders as MuJoCo does: the same view with other
+// edge pixels (docs/rendering.md "Shapes"); the rest of the image is ours.
+TEST(RenderCommandTest, MujocoShapesChangeOnlyTheShapesEdges) {
+  const std::string ours = temp_png("hribench_render_ours.png");
+  const std::string mujoco = temp_png("hribench_render_mujoco_shapes.png");
+  const std::string args = " --width 224 --height 224 --camera agentview";
+  ASSERT_EQ(run_hribench("render --out " + ours + args).exit_code, 0);
+  const auto r = run_hribench("render --mujoco-shapes --out " + mujoco + args);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const render::Image a = render::read_png(ours);
+  const render::Image b = render::read_png(mujoco);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  size_t differ = 0;
+  for (size_t i = 0; i < a.rgb.size(); i += 3) {
+    differ += std::equal(a.rgb.begin() + static_cast<long>(i), a.rgb.begin() + static_cast<long>(i + 3),
+                         b.rgb.begin() + static_cast<long>(i)) ? 0 : 1;
+  }
+  EXPECT_GT(differ, 0U);
+  EXPECT_LT(differ, a.rgb.size() / 3 / 10);
+  std::remove(ours.c_str());
+  std::remove(mujoco.c_str());
 }
 
 TEST(RenderCommandTest, UnknownFlagIsOneLine) {
