@@ -361,11 +361,12 @@ TEST_F(DefaultSceneTest, AgentviewSeesTheHandShapes) {
   EXPECT_GT(differ(closed, pointing), count(closed) / 10);
 }
 
-// Our tessellation of capsules, spheres and cylinders (RenderSettings::shape_slices/stacks) is
-// MuJoCo's at the images policies get, 224² from agentview and the wrist: colours differ by less
-// than one level of 255 on average and by more than 32 levels in under 0.5 % of the pixels, and
-// under 0.5 % of the pixels show another geom (docs/rendering.md "Settings we chose"; measured:
-// agentview 0.41, 0.17 % and 0.26 %; half our slices and stacks give 1.9 and 1.1 %).
+// Our tessellation of capsules, spheres and cylinders (RenderSettings::shape_slices/stacks)
+// looks like MuJoCo's in the images policies get, 224² from agentview and the wrist: colours
+// differ by less than one level of 255 on average and by more than 32 levels in under 0.5 % of
+// the pixels, and under 0.5 % of the pixels show another geom (docs/rendering.md "Shapes";
+// measured: agentview 0.41, 0.17 % and 0.26 %; 8 x 4 shapes give 1.9 and 1.1 %, 16 x 4 0.77 %
+// of the pixels on another geom).
 TEST_F(DefaultSceneTest, OurShapesLookLikeMujocosAtPolicyResolution) {
   RenderSettings mujoco_shapes;
   mujoco_shapes.shape_slices = 0;
