@@ -428,10 +428,6 @@ GenerationReport generate(const GenerateOptions& o) {
 bool holds_generation(const std::string& dir) { return fs::is_regular_file(fs::path(dir) / "candidates.jsonl"); }
 
 GenerationReport merge_generation(const std::string& out, const std::vector<std::string>& dirs) {
-  std::error_code ec;
-  if (fs::exists(out, ec) && (!fs::is_directory(out, ec) || !fs::is_empty(out, ec))) {
-    throw core::InputError("OUT", "a new or empty folder for the merged pool", "'" + out + "'");
-  }
   std::vector<eval::ShardOptions> folders;
   for (const std::string& dir : dirs) {
     const fs::path options = fs::path(dir) / "options.json";

@@ -797,10 +797,6 @@ CollectSummary collect(const CollectRequest& r, const std::function<void(const C
 bool holds_collect(const fs::path& dir) { return fs::is_regular_file(collect_state_path(dir)); }
 
 CollectSummary merge_collect(const fs::path& out, const std::vector<std::string>& dirs) {
-  std::error_code ec;
-  if (fs::exists(out, ec) && (!fs::is_directory(out, ec) || !fs::is_empty(out, ec))) {
-    throw core::InputError("OUT", "a new or empty folder for the merged dataset", "'" + out.string() + "'");
-  }
   std::vector<eval::ShardOptions> folders;
   std::vector<nlohmann::json> states;
   for (const std::string& dir : dirs) {

@@ -39,6 +39,7 @@ class MergeTest : public ::testing::Test {
 
 TEST_F(MergeTest, MergedShardsEqualTheFullRun) {
   const std::string out = dir_ + "/merged";
+  fs::create_directories(out);  // an empty OUT is taken
   const auto r = run_hribench("merge " + out + " " + dir_ + "/s2 " + dir_ + "/s0 " + dir_ + "/s1");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("hribench merge: 3 shards, 8 episodes -> " + out), std::string::npos) << r.output;
@@ -51,6 +52,7 @@ TEST_F(MergeTest, MergedShardsEqualTheFullRun) {
   }
   // A shard holds only its share and records it.
   EXPECT_NE(read_text(fs::path(dir_) / "s1" / "options.json").find("\"shard\": \"1/3\""), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ + "/.merged.merging"));  // the staging folder became OUT
 }
 
 TEST_F(MergeTest, DisagreeingOrIncompleteShardsAreRefused) {
@@ -232,6 +234,14 @@ TEST(MergeCollect, DisagreeingOrIncompleteShardsAreRefused) {
                  (root / "s1_bad" / "hribench" / "collect.json").string() +
                      ": expected a collect's state (options, episodes, finished), got other JSON",
                  "m6");
+  // A stored episode that cannot be read fails the merge after its checks: OUT is not left half
+  // written, and the staging folder is gone.
+  fs::copy(s1, root / "s1_torn", fs::copy_options::recursive);
+  for (const auto& stored : fs::recursive_directory_iterator(root / "s1_torn" / "hribench" / "episodes")) {
+    if (stored.is_regular_file()) std::ofstream(stored.path(), std::ios::trunc) << "not an episode";
+  }
+  expect_refused(s0 + " " + (root / "s1_torn").string(), (root / "s1_torn" / "hribench" / "episodes").string(), "m7");
+  EXPECT_FALSE(fs::exists(root / ".m7.merging"));
   // The whole collect is not a shard; an eval shard is no collect.
   ASSERT_EQ(run_hribench(collect + (root / "whole").string()).exit_code, 0);
   expect_refused((root / "whole").string(), (root / "whole").string() + ": is not a shard run", "m4");
