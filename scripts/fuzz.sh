@@ -8,6 +8,8 @@
 #   apt-get install clang-14 libclang-rt-14-dev
 # Usage: scripts/fuzz.sh [SECONDS] [TARGET...]   (targets: the fuzz/*_fuzz.cc names)
 #   RUNS=10000000 scripts/fuzz.sh 3600 bvh        # stop at 10 million executions (or 3600 s)
+#   FORK=2 RUNS=10000000 scripts/fuzz.sh 9000 scenario   # one run on two cores (libFuzzer -fork=2:
+#                                                        # child processes, executions summed)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${HRIBENCH_FUZZ_DIR:-$root/build-fuzz}"
@@ -26,13 +28,18 @@ for t in "${targets[@]}"; do
   log="$build/logs/$t.log"
   # Leaks are not crashes here: MuJoCo's and yaml-cpp's process-lifetime allocations are kept.
   if ! ASAN_OPTIONS="detect_leaks=0:${ASAN_OPTIONS:-}" "$build/fuzz/fuzz_$t" -max_total_time="$seconds" \
-      -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 ${RUNS:+-runs=$RUNS} \
+      -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 ${RUNS:+-runs=$RUNS} ${FORK:+-fork=$FORK} \
       -artifact_prefix="$build/crashes/$t/" "$build/corpus/$t" "$root/fuzz/corpus/$t" >"$log" 2>&1; then
     failed=1
     echo "$t: CRASH (see $log and $build/crashes/$t/)"
   fi
-  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
-  time=$(grep -o 'Done [0-9]* runs in [0-9]* second' "$log" | grep -o 'in [0-9]*' | grep -o '[0-9]*' || echo "$seconds")
+  if [ -n "${FORK:-}" ]; then  # the parent's last "#RUNS: cov: ..." line and "INFO: exiting: RC time: Ns"
+    runs=$(grep -o '^#[0-9]*: cov' "$log" | tail -n 1 | grep -o '[0-9]*' || echo "?")
+    time=$(grep -o 'INFO: exiting: [0-9]* time: [0-9]*s' "$log" | grep -o '[0-9]*s$' | grep -o '[0-9]*' || echo "$seconds")
+  else
+    runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
+    time=$(grep -o 'Done [0-9]* runs in [0-9]* second' "$log" | grep -o 'in [0-9]*' | grep -o '[0-9]*' || echo "$seconds")
+  fi
   echo "$t: $runs executions in ${time} s"
 done
 exit $failed
