@@ -98,8 +98,9 @@ GenerationReport generate(const GenerateOptions& options);
 bool holds_generation(const std::string& dir);
 
 // Combines the folders of a sharded generation (`generate --shard i/N`, one per shard, each
-// finished) into `out`, a new folder (the command stages the merge there): the pool one `generate` without --shard writes
-// (manifest, specs and reports byte for byte; candidates.jsonl in (task, candidate) order).
+// finished) into `out`, a new folder (the merge command's staging folder): the pool one
+// `generate` without --shard writes (manifest, specs and reports byte for byte;
+// candidates.jsonl in (task, candidate) order).
 // Throws core::InputError naming the folder when a folder is not a generation shard, the
 // shards do not cover 0..N-1 once each, their options or code differ (eval::shard_order), or
 // a shard does not hold exactly its candidates.

@@ -175,8 +175,9 @@ CollectSummary collect(const CollectRequest& request,
 bool holds_collect(const std::filesystem::path& dir);
 
 // `hribench merge OUT SHARD_DIR...` of a sharded collect (collect --shard i/N, docs/scale.md):
-// writes into OUT (a new folder: the command stages the merge there) the dataset and the hribench/ files (collect.json, logs) one
-// collect without --shard would have written, byte for byte, committing the shards' stored
+// writes into OUT (a new folder: the merge command's staging folder) the dataset and the
+// hribench/ files (collect.json, logs) one collect without --shard would have written, byte
+// for byte, committing the shards' stored
 // episodes in split order. Throws core::InputError, before writing anything, for a folder that
 // is not a finished collect shard, a missing or repeated shard, shards with other options
 // (the format, the code that recorded them, ...) or a shard that does not hold exactly its
