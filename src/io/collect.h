@@ -177,12 +177,11 @@ bool holds_collect(const std::filesystem::path& dir);
 // `hribench merge OUT SHARD_DIR...` of a sharded collect (collect --shard i/N, docs/scale.md):
 // writes into OUT (a new folder: the merge command's staging folder) the dataset and the
 // hribench/ files (collect.json, logs) one collect without --shard would have written, byte
-// for byte, committing the shards' stored
-// episodes in split order. Throws core::InputError, before writing anything, for a folder that
-// is not a finished collect shard, a missing or repeated shard, shards with other options
-// (the format, the code that recorded them, ...) or a shard that does not hold exactly its
-// episodes; and for stored episodes that cannot be read. Returns the merged collect's summary
-// (episodes, kept).
+// for byte, committing the shards' stored episodes in split order. Throws core::InputError,
+// before writing anything, for a folder that is not a finished collect shard, a missing or
+// repeated shard, shards with other options (the format, the code that recorded them, ...) or
+// a shard that does not hold exactly its episodes; and for stored episodes that cannot be
+// read. Returns the merged collect's summary (episodes, kept).
 CollectSummary merge_collect(const std::filesystem::path& out, const std::vector<std::string>& dirs);
 
 // DIR/hribench/collect.json of a collect: {"options": {...}, "episodes": [{key, task, seed,
