@@ -54,6 +54,17 @@ double arm_length(const Skeleton& skeleton, Side side);
 ArmSolution solve_arm(const Skeleton& skeleton, SkeletonPose& pose, Side side,
                       const ArmTarget& target);
 
+// The knees' bend in a forward lean of `forward` rad (its sagittal part) with `crouch` in
+// [0, 1]: the knee flexes by crouch * 0.7 * forward (at most 26 degrees), as forward tilts of
+// the thighs and the shins whose sum is that flexion. The thigh's share is the one that keeps
+// the hips straight above where they were (the hips only drop), with the skeleton's own bone
+// directions: the 60-step bisection of the thigh's tilt over [0, flexion] (lean_spine uses it).
+struct KneeBend {
+  double thigh = 0;  // rad
+  double shin = 0;   // rad
+};
+KneeBend knee_bend(const Skeleton& skeleton, double forward, double crouch);
+
 // A lean of `angle` rad toward `direction` (pelvis frame, only its xy part is used) about the
 // horizontal axis perpendicular to it: 40 % of its forward part at the hips (the pelvis pitches,
 // the thighs are counter-rotated), the rest in equal shares at spine1..spine3. A forward lean

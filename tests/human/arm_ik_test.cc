@@ -158,6 +158,51 @@ TEST(ArmIkTest, SwingTwistDecomposition) {
 }
 
 
+// knee_bend's definition: the 60-step bisection of the thigh's tilt, each midpoint judged by
+// rotating both bones (knee_bend skips the midpoints its closed form places for certain).
+KneeBend knee_bend_by_bisection(const Skeleton& k, double forward, double crouch) {
+  if (forward <= 0 || crouch <= 0) return {};
+  const double flex = std::min(crouch * 0.7 * forward, 26 * kDeg);
+  const Vec3& thigh = k.offset[static_cast<size_t>(index(Joint::kLeftKnee))];
+  const Vec3& shin = k.offset[static_cast<size_t>(index(Joint::kLeftAnkle))];
+  const auto ahead = [&](double b) {
+    return (core::axis_angle(Vec3::UnitY(), -b) * thigh).x() +
+           (core::axis_angle(Vec3::UnitY(), flex - b) * shin).x();
+  };
+  double lo = 0;
+  double hi = flex;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (ahead(mid) > thigh.x() + shin.x() ? hi : lo) = mid;
+  }
+  return {lo, flex - lo};
+}
+
+TEST(ArmIkTest, KneeBendIsTheBisectionToTheBit) {
+  int bent = 0;
+  for (const double height : {1.5, 1.62, 1.75, 1.9}) {
+    Skeleton k = Skeleton::FromHeight(height);
+    for (int bones = 0; bones < 2; ++bones) {
+      if (bones == 1) {
+        // Bones that are not straight down (as a retargeted skeleton's may be).
+        k.offset[static_cast<size_t>(index(Joint::kLeftKnee))] += Vec3(0.03, 0, 0.01);
+        k.offset[static_cast<size_t>(index(Joint::kLeftAnkle))] += Vec3(-0.05, 0, 0);
+      }
+      for (int i = 0; i <= 400; ++i) {
+        for (const double crouch : {0.0, 0.13, 0.5, 0.77, 1.0}) {
+          const double forward = -0.1 + 1.4 * i / 400.0;
+          const KneeBend fast = knee_bend(k, forward, crouch);
+          const KneeBend slow = knee_bend_by_bisection(k, forward, crouch);
+          ASSERT_EQ(fast.thigh, slow.thigh) << height << " m, bones " << bones << ", forward " << forward << ", crouch " << crouch;
+          ASSERT_EQ(fast.shin, slow.shin);
+          bent += fast.thigh > 0;
+        }
+      }
+    }
+  }
+  EXPECT_GT(bent, 5000);
+}
+
 TEST(ArmIkTest, ALeanBendsTheKneesWithTheFeetFlatAndTheHipsAboveThem) {
   const Skeleton k = Skeleton::FromHeight(1.80);
   const SkeletonPose pose = SkeletonPose::Standing(k, 0.3, -0.2, 0.5);
