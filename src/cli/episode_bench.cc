@@ -155,12 +155,14 @@ void apply_physics(const std::string& name, model::Model& model) {
         m->dof_damping[m->jnt_dofadr[joint]] -= m->actuator_biasprm[a * mjNBIAS + 2];
         m->actuator_biasprm[a * mjNBIAS + 2] = 0;
       }
+    } else if (key == "timestep" && numeric) {
+      m->opt.timestep = number;
     } else if (key == "iterations" && numeric && number == std::floor(number) && number <= 1000) {
       m->opt.iterations = static_cast<int>(number);
     } else if (key == "tolerance" && numeric) {
       m->opt.tolerance = number;
     } else {
-      throw core::InputError("--physics", "implicit, euler, iterations=N, tolerance=X, joined by '+'",
+      throw core::InputError("--physics", "implicit, euler, timestep=S, iterations=N, tolerance=X, joined by '+'",
                              "'" + part + "'");
     }
   }
@@ -213,9 +215,9 @@ EpisodeFigures run_one(const script::EpisodeSpec& spec, const std::string& ref, 
   f.seconds = seconds_since(start);
   if (peak_known) f.peak_kib = std::max(0L, peak_rss_kib() - rss_before);
   f.control_steps = static_cast<long>(log.steps.size()) - 1;
-  f.physics_steps = f.control_steps * static_cast<long>(std::lround(options.control_dt / model::kTimestep));
   const mjData& d = *episode.data().mj;
   const mjModel& m = *model->m();
+  f.physics_steps = f.control_steps * std::lround(options.control_dt / m.opt.timestep);
   f.maxuse_con = d.maxuse_con;
   f.maxuse_efc = d.maxuse_efc;
   f.maxuse_stack = d.maxuse_stack;

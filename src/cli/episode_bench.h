@@ -18,7 +18,8 @@
 // the episodes whose outcome (success, status, primary label) or log differs from the first
 // candidate's. Candidates: implicit (the scene as built), euler (Euler integrator with the arm
 // servos' damping kv moved from the actuators' bias to the joints' damping, which Euler
-// integrates implicitly), iterations=N (solver iterations), tolerance=X (solver tolerance);
+// integrates implicitly), timestep=S (the physics step, s; the 50 ms control step must hold a
+// whole number of them), iterations=N (solver iterations), tolerance=X (solver tolerance);
 // joined by '+' they combine (euler+iterations=20).
 
 #include <string>

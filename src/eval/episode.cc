@@ -234,10 +234,11 @@ Episode::Episode(const Episode& other)
 Episode::~Episode() = default;
 
 void Episode::init() {
-  const double physics_per_control = options_.control_dt / model::kTimestep;
+  const double timestep = model_->m()->opt.timestep;
+  const double physics_per_control = options_.control_dt / timestep;
   substeps_ = static_cast<int>(std::lround(physics_per_control));
   if (substeps_ < 1 || std::abs(physics_per_control - substeps_) > 1e-9) {
-    throw core::InputError("control_dt", "a whole number of 2 ms physics steps",
+    throw core::InputError("control_dt", fmt::format("a whole number of {} ms physics steps", 1000 * timestep),
                            fmt::format("{} s", options_.control_dt));
   }
   if (!(options_.horizon > 0)) {

@@ -74,14 +74,21 @@ TEST(EpisodeBenchTest, PhysicsCandidatesAreRowsComparedWithTheFirst) {
   // A candidate equal to the scene as built (50 solver iterations) gives the same episode
   // (differ 0); Euler changes the physics, so its log differs from the implicit integrator's.
   const nlohmann::json j = run_episode_bench_json(
-      "--tasks I1 --policies noop --horizon 0.3 --threads 1 --physics implicit,iterations=50,euler+iterations=20");
+      "--tasks I1 --policies noop --horizon 0.3 --threads 1 "
+      "--physics implicit,iterations=50,euler+iterations=20,timestep=0.005");
   ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
-  ASSERT_EQ(j["tasks"].size(), 3u);
+  ASSERT_EQ(j["tasks"].size(), 4u);
   EXPECT_EQ(j["tasks"][0]["physics"], "implicit");
   EXPECT_EQ(j["tasks"][1]["physics"], "iterations=50");
   EXPECT_EQ(j["tasks"][1]["differ_from_first_physics"], 0);
   EXPECT_EQ(j["tasks"][2]["physics"], "euler+iterations=20");
   EXPECT_EQ(j["tasks"][2]["differ_from_first_physics"], 1);
+  // A 5 ms physics step: 10 steps per 50 ms control step instead of 25, a different episode.
+  EXPECT_EQ(j["tasks"][3]["physics"], "timestep=0.005");
+  EXPECT_EQ(j["tasks"][3]["differ_from_first_physics"], 1);
+  const double steps_2ms = j["tasks"][0]["physics_steps_per_episode"].get<double>();
+  EXPECT_GT(steps_2ms, 0);
+  EXPECT_EQ(2 * steps_2ms, 5 * j["tasks"][3]["physics_steps_per_episode"].get<double>());
 }
 
 TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
@@ -92,7 +99,9 @@ TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
         {"bench --episodes --horizon -2", "--horizon: expected a positive number of seconds, got -2"},
         {"bench --episodes --policies nope", "policy: expected one of blind, gr00t, noop, openpi, oracle, random, reactive, got 'nope'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics rk4",
-         "--physics: expected implicit, euler, iterations=N, tolerance=X, joined by '+', got 'rk4'"},
+         "--physics: expected implicit, euler, timestep=S, iterations=N, tolerance=X, joined by '+', got 'rk4'"},
+        {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics timestep=0.003",
+         "control_dt: expected a whole number of 3 ms physics steps, got 0.05 s"},
         {"bench --episodes --tasks I1 --horizon 0.1 --policies 'noop?cameras=wrist:64'",
          "policy noop: cameras: expected NAME:WIDTHxHEIGHT joined by '+' (e.g. agentview:224x224+wrist:224x224), "
          "sides in [1, 4096], got 'wrist:64'"},
