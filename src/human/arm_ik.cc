@@ -95,10 +95,13 @@ KneeBend knee_bend(const Skeleton& k, double forward, double crouch) {
   const double least_slope = R * std::min(std::sin(phi), std::sin(phi - flex));
   const double sure =
       least_slope > 0 ? kAheadRounding / least_slope : std::numeric_limits<double>::infinity();
+  // Once the midpoint rounds to an end the search has judged (any end but the first hi),
+  // judging it again gives the same answer and nothing changes: the loop ends there.
   double lo = 0;
   double hi = flex;
   for (int i = 0; i < 60; ++i) {
     const double mid = 0.5 * (lo + hi);
+    if ((mid == lo || mid == hi) && mid != flex) break;
     const bool past = std::abs(mid - root) > sure ? mid > root : ahead(mid) > rest;
     (past ? hi : lo) = mid;
   }
@@ -223,14 +226,17 @@ void lean_spine(const Skeleton& skeleton, SkeletonPose& pose, const Vec3& direct
   // A forward lean bends the knees (docs/motion.md, "Leaning"): the hips drop straight down,
   // the feet stay flat.
   const KneeBend bend = knee_bend(skeleton, forward, std::clamp(crouch, 0.0, 1.0));
+  const Quat thigh_q = core::axis_angle(Vec3::UnitY(), -bend.thigh);
+  const Quat knee_q = core::axis_angle(Vec3::UnitY(), bend.thigh + bend.shin);
+  const Quat ankle_q = core::axis_angle(Vec3::UnitY(), -bend.shin);
   for (const Side side : {Side::kLeft, Side::kRight}) {
     const bool left = side == Side::kLeft;
     Quat& hip = joint(left ? Joint::kLeftHip : Joint::kRightHip);
-    hip = (pelvis_q.conjugate() * core::axis_angle(Vec3::UnitY(), -bend.thigh) * hip).normalized();
+    hip = (pelvis_q.conjugate() * thigh_q * hip).normalized();
     Quat& knee = joint(left ? Joint::kLeftKnee : Joint::kRightKnee);
-    knee = (core::axis_angle(Vec3::UnitY(), bend.thigh + bend.shin) * knee).normalized();
+    knee = (knee_q * knee).normalized();
     Quat& ankle = joint(left ? Joint::kLeftAnkle : Joint::kRightAnkle);
-    ankle = (core::axis_angle(Vec3::UnitY(), -bend.shin) * ankle).normalized();
+    ankle = (ankle_q * ankle).normalized();
   }
   // The rest of the lean, in equal shares at the spine joints.
   const Quat spine_q =
