@@ -86,7 +86,7 @@ KneeBend knee_bend(const Skeleton& k, double forward, double crouch) {
   // on all of [0, flex] (phi and phi - flex in (0, pi)), a midpoint farther from that root
   // than kAheadRounding / (the least slope) lies on the root's side whatever the rounding, so
   // only the midpoints closer to it are evaluated: the bisection's result to the bit, with about
-  // a third of its 120 rotations (docs/performance.md "A leaning person's pose").
+  // a quarter of its 120 rotations (docs/performance.md "A leaning person's pose").
   const double P = thigh.x() + shin.x() * std::cos(flex) + shin.z() * std::sin(flex);
   const double Q = -thigh.z() + shin.x() * std::sin(flex) - shin.z() * std::cos(flex);
   const double R = std::hypot(P, Q);
