@@ -87,8 +87,10 @@ KneeBend knee_bend(const Skeleton& k, double forward, double crouch) {
   // than kAheadRounding / (the least slope) lies on the root's side whatever the rounding, so
   // only the midpoints closer to it are evaluated: the bisection's result to the bit, with about
   // a quarter of its 120 rotations (docs/performance.md "A leaning person's pose").
-  const double P = thigh.x() + shin.x() * std::cos(flex) + shin.z() * std::sin(flex);
-  const double Q = -thigh.z() + shin.x() * std::sin(flex) - shin.z() * std::cos(flex);
+  const double cos_flex = std::cos(flex);
+  const double sin_flex = std::sin(flex);
+  const double P = thigh.x() + shin.x() * cos_flex + shin.z() * sin_flex;
+  const double Q = -thigh.z() + shin.x() * sin_flex - shin.z() * cos_flex;
   const double R = std::hypot(P, Q);
   const double phi = std::atan2(Q, P);
   const double root = phi - std::acos(std::clamp(rest / R, -1.0, 1.0));

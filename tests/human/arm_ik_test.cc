@@ -157,7 +157,6 @@ TEST(ArmIkTest, SwingTwistDecomposition) {
   EXPECT_NEAR(twist_angle(both, Vec3::UnitZ()), -0.7, 1e-12);
 }
 
-
 // knee_bend's definition: the 60-step bisection of the thigh's tilt, each midpoint judged by
 // rotating both bones (knee_bend skips the midpoints its closed form places for certain).
 KneeBend knee_bend_by_bisection(const Skeleton& k, double forward, double crouch) {
@@ -199,7 +198,8 @@ TEST(ArmIkTest, KneeBendIsTheBisectionToTheBit) {
           const double forward = -0.1 + 1.4 * i / 400.0;
           const KneeBend fast = knee_bend(k, forward, crouch);
           const KneeBend slow = knee_bend_by_bisection(k, forward, crouch);
-          ASSERT_EQ(fast.thigh, slow.thigh) << height << " m, bones " << bones << ", forward " << forward << ", crouch " << crouch;
+          ASSERT_EQ(fast.thigh, slow.thigh)
+              << height << " m, bones " << bones << ", forward " << forward << ", crouch " << crouch;
           ASSERT_EQ(fast.shin, slow.shin);
           bent += fast.thigh > 0;
           at_flexion += fast.shin == 0 && fast.thigh > 0;
