@@ -152,9 +152,12 @@ void apply_physics(const std::string& name, model::Model& model) {
       m->opt.integrator = mjINT_EULER;
       for (const int a : model.arm_actuator) {
         const int joint = m->actuator_trnid[2 * a];
-        m->dof_damping[m->jnt_dofadr[joint]] -= m->actuator_biasprm[a * mjNBIAS + 2];
+        m->dof_damping[m->jnt_dofadr[joint]] += model::servo_kv(*m, a);
         m->actuator_biasprm[a * mjNBIAS + 2] = 0;
       }
+    } else if (part == "euler-servo") {
+      m->opt.integrator = mjINT_EULER;
+      model::servo_damping_in_joints(model);
     } else if (key == "timestep" && numeric) {
       m->opt.timestep = number;
     } else if (key == "iterations" && numeric && number == std::floor(number) && number <= 1000) {
@@ -162,7 +165,7 @@ void apply_physics(const std::string& name, model::Model& model) {
     } else if (key == "tolerance" && numeric) {
       m->opt.tolerance = number;
     } else {
-      throw core::InputError("--physics", "implicit, euler, timestep=S, iterations=N, tolerance=X, joined by '+'",
+      throw core::InputError("--physics", "implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, joined by '+'",
                              "'" + part + "'");
     }
   }

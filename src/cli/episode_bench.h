@@ -18,7 +18,9 @@
 // the episodes whose outcome (success, status, primary label) or log differs from the first
 // candidate's. Candidates: implicit (the scene as built), euler (Euler integrator with the arm
 // servos' damping kv moved from the actuators' bias to the joints' damping, which Euler
-// integrates implicitly), timestep=S (the physics step, s; the 50 ms control step must hold a
+// integrates implicitly), euler-servo (Euler integrator with model::servo_damping_in_joints:
+// kv also in the joints' damping and added back unclamped, so the servos' force limits apply
+// as built), timestep=S (the physics step, s; the 50 ms control step must hold a
 // whole number of them), iterations=N (solver iterations), tolerance=X (solver tolerance);
 // joined by '+' they combine (euler+iterations=20).
 

@@ -685,4 +685,15 @@ Model build(const SceneSpec& spec) {
   return model;
 }
 
+double servo_kv(const mjModel& m, int actuator) { return -m.actuator_biasprm[actuator * mjNBIAS + 2]; }
+
+void servo_damping_in_joints(Model& model) {
+  mjModel* m = model.mj.get();
+  for (size_t j = 0; j < model.arm_actuator.size(); ++j) {
+    m->dof_damping[model.arm_dof_adr[j]] += servo_kv(*m, model.arm_actuator[j]);
+  }
+  for (const int dof : model.finger_dof_adr) m->dof_damping[dof] += 2 * servo_kv(*m, model.gripper_actuator);
+  model.servo_damping_in_joints = true;
+}
+
 }  // namespace hribench::model

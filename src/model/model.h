@@ -230,6 +230,8 @@ struct Model {
   std::vector<int> arm_qpos_adr;  // qpos addresses
   std::vector<int> arm_dof_adr;   // dof addresses
   std::vector<int> arm_actuator;  // position-servo actuator ids (ctrl = target, rad)
+  // Set by servo_damping_in_joints() (the euler-servo physics candidate, measured only).
+  bool servo_damping_in_joints = false;
   std::vector<int> link_body;     // link body ids, base first
   std::array<int, 2> finger_joint{};        // left/right finger slide joints
   std::array<int, 2> finger_qpos_adr{};
@@ -293,6 +295,19 @@ struct Model {
 // unknown platform) or if MuJoCo
 // rejects the generated MJCF (a bug: the message carries MuJoCo's error).
 Model build(const SceneSpec& spec);
+
+// A servo model the Euler integrator can integrate (the euler-servo candidate of `hribench
+// bench --episodes --physics`, docs/performance.md "Physics candidates"). Each servo's damping
+// kv (the bias's velocity gain, −biasprm[2]) is added to its joints' damping, which Euler
+// integrates implicitly, and stays in the servo, whose force limit clamps kp·e − kv·q̇ as built;
+// sim::step adds kv·q̇ back to the applied forces unclamped. So the damping the servo asks
+// for is integrated implicitly and its force limit still applies to the same sum. The gripper's
+// servo damps the opening q1 + q2: 2·kv per finger while its coupling equality keeps the
+// fingers together. Leaves the integrator to the caller.
+void servo_damping_in_joints(Model& model);
+
+// A servo's damping kv (N·m·s/rad, or N·s/m for the gripper): its bias's velocity gain, −biasprm[2].
+double servo_kv(const mjModel& m, int actuator);
 
 // The MJCF text that build() would load (for inspection and tests); throws like build().
 std::string to_mjcf(const SceneSpec& spec);

@@ -90,6 +90,25 @@ void pose_human(const model::Model& model, Data& data) {
   data.human_pose_dirty = false;
 }
 
+namespace {
+
+// The servos' velocity terms kv·q̇ that model::servo_damping_in_joints also put in the joints'
+// damping, added back unclamped (the gripper's on the opening's rate, to both fingers: its
+// tendon's moments are 1).
+void add_back_servo_damping(const model::Model& model, mjData& d) {
+  const mjModel& m = *model.m();
+  for (size_t j = 0; j < model.arm_actuator.size(); ++j) {
+    const int dof = model.arm_dof_adr[j];
+    d.qfrc_applied[dof] += model::servo_kv(m, model.arm_actuator[j]) * d.qvel[dof];
+  }
+  const double opening_rate = d.qvel[model.finger_dof_adr[0]] + d.qvel[model.finger_dof_adr[1]];
+  for (const int dof : model.finger_dof_adr) {
+    d.qfrc_applied[dof] = model::servo_kv(m, model.gripper_actuator) * opening_rate;
+  }
+}
+
+}  // namespace
+
 void step(const model::Model& model, Data& data) {
   const mjModel* m = model.m();
   mjData* d = data.mj.get();
@@ -98,6 +117,7 @@ void step(const model::Model& model, Data& data) {
   // Gravity (and Coriolis) compensation of the arm, as the Panda's own controller does; the
   // bias forces are those of the last forward pass (one step old).
   for (const int dof : model.arm_dof_adr) d->qfrc_applied[dof] = d->qfrc_bias[dof];
+  if (model.servo_damping_in_joints) add_back_servo_damping(model, *d);
   mj_step(m, d);
 }
 

@@ -1,5 +1,7 @@
 // Controllers: joint targets, ee_delta differential IK, gripper, and a scripted grasp by finger
-// contact only (no teleporting, no weld).
+// contact only (no teleporting, no weld). Tracking, the gripper and the grasp are also checked
+// under the euler-servo physics candidate (model::servo_damping_in_joints with the Euler
+// integrator, docs/performance.md "Physics candidates").
 
 #include "sim/control.h"
 
@@ -17,6 +19,27 @@ namespace {
 using ControlTest = testing::MujocoTest;
 using core::Pose;
 using core::Vec3;
+
+// The physics a parameterised test runs: the scene as built, or the euler-servo candidate.
+enum class Physics { kAsBuilt, kEulerServo };
+
+class ControlPhysicsTest : public testing::MujocoTest, public ::testing::WithParamInterface<Physics> {
+ protected:
+  model::Model build(const model::SceneSpec& spec) const {
+    model::Model model = model::build(spec);
+    if (GetParam() == Physics::kEulerServo) {
+      model.mj->opt.integrator = mjINT_EULER;
+      model::servo_damping_in_joints(model);
+    }
+    return model;
+  }
+};
+
+INSTANTIATE_TEST_SUITE_P(Physics, ControlPhysicsTest,
+                         ::testing::Values(Physics::kAsBuilt, Physics::kEulerServo),
+                         [](const ::testing::TestParamInfo<Physics>& param) {
+                           return param.param == Physics::kAsBuilt ? "AsBuilt" : "EulerServo";
+                         });
 
 // Steps `seconds` of physics.
 void run(const model::Model& model, Data& data, double seconds) {
@@ -38,8 +61,8 @@ void move_tcp(const model::Model& model, Data& data, const Pose& target, double 
   }
 }
 
-TEST_F(ControlTest, JointTargetsAreClampedToLimitsAndTracked) {
-  const model::Model model = model::build(model::SceneSpec::Default());
+TEST_P(ControlPhysicsTest, JointTargetsAreClampedToLimitsAndTracked) {
+  const model::Model model = build(model::SceneSpec::Default());
   Data data = make_data(model);
   const model::Robot& robot = model.robot;
   ArmVector q = robot.home();
@@ -115,10 +138,10 @@ TEST_F(ControlTest, EeDeltaRespectsJointLimits) {
   ExpectNoWarnings(data.mj.get());
 }
 
-TEST_F(ControlTest, GripperOpensAndClosesToTheCommandedWidth) {
+TEST_P(ControlPhysicsTest, GripperOpensAndClosesToTheCommandedWidth) {
   model::SceneSpec spec = model::SceneSpec::Default();
   spec.objects.clear();
-  const model::Model model = model::build(spec);
+  const model::Model model = build(spec);
   Data data = make_data(model);
   EXPECT_NEAR(gripper_width(model, data), 0.08, 1e-6);
   set_gripper_width(model, data, 0.03);
@@ -136,8 +159,8 @@ TEST_F(ControlTest, GripperOpensAndClosesToTheCommandedWidth) {
   ExpectNoWarnings(data.mj.get());
 }
 
-TEST_F(ControlTest, ScriptedGraspLiftsTheCubeTenCentimetresAndHoldsIt) {
-  const model::Model model = model::build(model::SceneSpec::Default());
+TEST_P(ControlPhysicsTest, ScriptedGraspLiftsTheCubeTenCentimetresAndHoldsIt) {
+  const model::Model model = build(model::SceneSpec::Default());
   Data data = make_data(model);
   const int cube = model.object_index("cube");
   ASSERT_GE(cube, 0);
@@ -174,6 +197,34 @@ TEST_F(ControlTest, ScriptedGraspLiftsTheCubeTenCentimetresAndHoldsIt) {
   EXPECT_LT((offset_end - offset_start).norm(), 0.005);
   EXPECT_LT((end - held).norm(), 0.005);
   ExpectNoWarnings(data.mj.get());
+}
+
+// Under Euler the servos' damping kv must be added back unclamped: in the joints' damping alone
+// it sits outside the servo's force limit, and joint 1 (87 N·m, kv 450 N·m·s/rad) cannot move
+// faster than 87 / 450 = 0.19 rad/s. With it added back, joint 1 crosses 1 rad as fast as under
+// the implicit integrator.
+TEST_P(ControlPhysicsTest, JointOneMovesAsFastAsTheImplicitServo) {
+  const double kStep = 1.0;
+  const auto seconds_to_cross = [&](const model::Model& model) {
+    Data data = make_data(model);
+    ArmVector q = model.robot.home();
+    const double start = q[0];
+    q[0] += kStep;
+    set_joint_targets(model, data, q);
+    for (int i = 1; i <= 2000; ++i) {
+      step(model, data);
+      if (arm_joint_positions(model, data)[0] > start + 0.9 * kStep) return i * model::kTimestep;
+    }
+    return 1e9;
+  };
+  const double implicit = seconds_to_cross(model::build(model::SceneSpec::Default()));
+  ASSERT_LT(implicit, 2.0);
+  model::Model model = build(model::SceneSpec::Default());
+  EXPECT_NEAR(seconds_to_cross(model), implicit, 0.05 * implicit);
+  if (GetParam() == Physics::kEulerServo) {
+    model.servo_damping_in_joints = false;  // the damping in the joints, not added back
+    EXPECT_GT(seconds_to_cross(model), 4.0);
+  }
 }
 
 }  // namespace
