@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
@@ -20,6 +21,7 @@ RenderSettings RenderSettings::mujoco_defaults() {
   s.multisamples = 4;
   s.shape_slices = 0;
   s.shape_stacks = 0;
+  s.cull_outside_view = false;
   return s;
 }
 
@@ -101,6 +103,65 @@ void add_drawn_hands(const mjModel& m, const mjData& d, mjvScene& scene) {
       ++scene.ngeom;
     }
   }
+}
+
+// Radius of a sphere around a scene geom's centre that holds it, or a negative value for kinds
+// that are never culled (planes, meshes, lines, labels, ...).
+double bounding_radius(const mjvGeom& g) {
+  const double a = g.size[0], b = g.size[1], c = g.size[2];
+  switch (g.type) {
+    case mjGEOM_SPHERE: return a;
+    case mjGEOM_CAPSULE: return a + c;
+    case mjGEOM_ELLIPSOID: return std::max({a, b, c});
+    case mjGEOM_CYLINDER: return std::hypot(a, c);
+    case mjGEOM_BOX: return std::sqrt(a * a + b * b + c * c);
+    default: return -1;
+  }
+}
+
+// Drops the scene's geoms that lie wholly outside the view frustum of its camera for an image of
+// `aspect` (width / height), keeping the others in order. mjr_render would draw them for
+// nothing: every vertex costs on llvmpipe, and the wrist camera sees little of the scene. A
+// geom is dropped only when its bounding sphere is more than its radius (and a millimetre)
+// outside one of the frustum's planes, so no pixel changes (renderer_test). Segment ids follow
+// the geoms' new places (render_segmentation maps them back through the scene).
+void cull_outside_view(mjvScene& scene, double aspect) {
+  // Without stereo, mjr_render draws from the average of the scene's two eyes (camera[0] and [1]
+  // sit half the inter-pupillary distance to each side, 3.4 cm by default).
+  const mjvGLCamera c = mjv_averageCamera(&scene.camera[0], &scene.camera[1]);
+  const auto vec = [](const float* v) { return Eigen::Vector3d(v[0], v[1], v[2]); };
+  const Eigen::Vector3d eye = vec(c.pos);
+  const Eigen::Vector3d forward = vec(c.forward).normalized();
+  const Eigen::Vector3d up = vec(c.up).normalized();
+  const Eigen::Vector3d right = forward.cross(up);
+  const double near = c.frustum_near, far = c.frustum_far;
+  const double bottom = c.frustum_bottom, top = c.frustum_top, center = c.frustum_center;
+  // MuJoCo sets the horizontal extent from the aspect: center ± aspect · (top − bottom) / 2.
+  const double half_width = 0.5 * aspect * (top - bottom);
+  // Each side plane passes through the eye; a point (x, y, z) in the camera's (right, up,
+  // forward) frame is outside it when x < s·z (left), x > s·z (right), ... with s the plane's
+  // slope at the near plane. `beyond(s, u, z)` is the distance outside the plane u = s·z.
+  const auto beyond = [](double slope, double u, double z) { return (slope * z - u) / std::hypot(1.0, slope); };
+  const double kMargin = 1e-3;  // m
+  int kept = 0;
+  for (int i = 0; i < scene.ngeom; ++i) {
+    const mjvGeom& g = scene.geoms[i];
+    const double r = bounding_radius(g);
+    if (r >= 0) {
+      const Eigen::Vector3d p = vec(g.pos) - eye;
+      const double x = p.dot(right), y = p.dot(up), z = p.dot(forward);
+      const double reach = r + kMargin;
+      if (z + reach < near || z - reach > far || beyond((center - half_width) / near, x, z) > reach ||
+          -beyond((center + half_width) / near, x, z) > reach || beyond(bottom / near, y, z) > reach ||
+          -beyond(top / near, y, z) > reach) {
+        continue;
+      }
+    }
+    if (kept != i) scene.geoms[kept] = g;
+    scene.geoms[kept].segid = kept;
+    ++kept;
+  }
+  scene.ngeom = kept;
 }
 
 // The model's fixed camera `camera_id` as an mjvCamera.
@@ -213,6 +274,10 @@ void Renderer::draw(const mjModel& m, const mjData& d, const mjvCamera& camera) 
   // mjv_updateScene takes mjData* but only reads it (it could set a warning; see capacity).
   mjv_updateScene(&m, const_cast<mjData*>(&d), &option_, nullptr, &camera_, mjCAT_ALL, &scene_);
   add_drawn_hands(m, d, scene_);
+  if (settings_.cull_outside_view && !settings_.shadows && !settings_.reflections &&
+      scene_.stereo == mjSTEREO_NONE) {
+    cull_outside_view(scene_, static_cast<double>(width_) / height_);
+  }
   mjr_render(mjrRect{0, 0, width_, height_}, &scene_, &context_);
 }
 

@@ -56,6 +56,9 @@ struct RenderSettings {
   // default, as the scene does not set it). Ours is about half the vertices' cost per frame.
   int shape_slices = 16;
   int shape_stacks = 8;
+  // Leave out of the draw the geoms wholly outside the camera's view (changes no pixel; skipped
+  // while shadows or reflections are on, since a geom out of view can cast or show in them).
+  bool cull_outside_view = true;
 
   // MuJoCo 2.2.2's defaults (shadows, reflections, skybox, 4x MSAA, its tessellation).
   static RenderSettings mujoco_defaults();
@@ -76,6 +79,8 @@ class Renderer {
   int width() const { return width_; }
   int height() const { return height_; }
   const RenderSettings& settings() const { return settings_; }
+  // Geoms the last image drew: the scene's, the drawn hands', less those out of view.
+  int drawn_geoms() const { return scene_.ngeom; }
   // GL_RENDERER of the context ("none" for the none back end).
   const std::string& gl_renderer() const { return gl_renderer_; }
 

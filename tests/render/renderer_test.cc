@@ -402,5 +402,33 @@ TEST_F(DefaultSceneTest, OurShapesLookLikeMujocosAtPolicyResolution) {
   }
 }
 
+// Leaving the geoms wholly outside the view out of the draw (RenderSettings::cull_outside_view)
+// changes no pixel and no segment, for both cameras, square and not; the wrist camera sees few
+// of the scene's geoms, so it draws far fewer.
+TEST_F(DefaultSceneTest, CullingWhatIsOutOfViewChangesNoPixel) {
+  RenderSettings everything;
+  everything.cull_outside_view = false;
+  for (const auto& [width, height] : {std::pair{224, 224}, std::pair{96, 48}, std::pair{48, 96}}) {
+    for (const int camera : {model_.agentview_camera, model_.wrist_camera}) {
+      SCOPED_TRACE(std::string(mj_id2name(model_.m(), mjOBJ_CAMERA, camera)) + " " + std::to_string(width) + "x" +
+                   std::to_string(height));
+      auto culled = make_renderer(Backend::kOsmesa, *model_.m(), width, height);
+      auto all = make_renderer(Backend::kOsmesa, *model_.m(), width, height, everything);
+      Image a, b;
+      ASSERT_TRUE(culled->render(model_, data_, camera, a));
+      ASSERT_TRUE(all->render(model_, data_, camera, b));
+      EXPECT_EQ(a.rgb, b.rgb);
+      EXPECT_LE(culled->drawn_geoms(), all->drawn_geoms());
+      if (camera == model_.wrist_camera && width == height) {
+        EXPECT_LT(culled->drawn_geoms(), all->drawn_geoms() / 2) << culled->drawn_geoms() << " of " << all->drawn_geoms();
+      }
+      SegmentationImage sa, sb;
+      ASSERT_TRUE(culled->render_segmentation(*model_.m(), *data_.mj, camera, sa));
+      ASSERT_TRUE(all->render_segmentation(*model_.m(), *data_.mj, camera, sb));
+      EXPECT_EQ(sa.geom, sb.geom);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hribench::render
