@@ -122,7 +122,7 @@ double bounding_radius(const mjvGeom& g) {
 // Drops the scene's geoms that lie wholly outside the view frustum of its camera for an image of
 // `aspect` (width / height), keeping the others in order. mjr_render would draw them for
 // nothing: every vertex costs on llvmpipe, and the wrist camera sees little of the scene. A
-// geom is dropped only when its bounding sphere is more than its radius (and a millimetre)
+// geom is dropped only when its centre lies farther than its bounding radius (and a millimetre)
 // outside one of the frustum's planes, so no pixel changes (renderer_test). Segment ids follow
 // the geoms' new places (render_segmentation maps them back through the scene).
 void cull_outside_view(mjvScene& scene, double aspect) {
