@@ -36,6 +36,16 @@ double gripper_rate(const EpisodeLog& log, size_t k) {
   return std::abs(log.steps[k].gripper_width - log.steps[k - 1].gripper_width) / dt(log, k);
 }
 
+// The gripper's rate over interval k where its width changes toward the opening the robot
+// commanded over that interval, else 0: fingers settling back on a grasped object (or pushed
+// open by it) move away from the command, and the robot is not moving its gripper.
+double commanded_gripper_rate(const EpisodeLog& log, size_t k) {
+  const StepRecord& from = log.steps[k - 1];
+  const StepRecord& to = log.steps[k];
+  const bool toward = (to.gripper_target - from.gripper_width) * (to.gripper_width - from.gripper_width) > 0;
+  return toward ? gripper_rate(log, k) : 0.0;
+}
+
 }  // namespace
 
 TimeSet moving_time(const EpisodeLog& log, const MetricConstants& c) {
@@ -43,7 +53,7 @@ TimeSet moving_time(const EpisodeLog& log, const MetricConstants& c) {
       log,
       [&](size_t k) {
         return ee_velocity(log, k).norm() > c.moving_ee_speed ||
-               gripper_rate(log, k) > c.moving_gripper_rate;
+               commanded_gripper_rate(log, k) > c.moving_gripper_rate;
       },
       c.moving_sustain, c.time_epsilon);
 }

@@ -36,6 +36,7 @@ class EpisodeBuilder {
       s.joint_pos = {0, -0.3, 0, -2.2, 0, 1.9, 0.8};
       s.X_WT.translation = core::Vec3(0.4, 0, 1.0);
       s.gripper_width = 0.08;
+      s.gripper_target = 0.08;
       s.object_poses.resize(2);
       s.lid_angles.assign(2, 0.0);
       s.separation = std::numeric_limits<double>::infinity();
@@ -52,11 +53,37 @@ class EpisodeBuilder {
     }
     return *this;
   }
-  // The gripper width changes at `rate` m/s during [from, to].
+  // The gripper width changes at `rate` m/s during [from, to], commanded to where it ends (the
+  // opening it is told over the steps after `from`, up to `to`).
   EpisodeBuilder& grip(double from, double to, double rate) {
     for (StepRecord& s : log_.steps) {
       const double t = std::min(std::max(s.time, from), to);
       if (s.time > from) s.gripper_width += rate * (t - from);
+    }
+    double end = 0;
+    for (const StepRecord& s : log_.steps) {
+      if (s.time <= to + 1e-9) end = s.gripper_width;
+    }
+    for (StepRecord& s : log_.steps) {
+      if (s.time > from + 1e-9 && s.time <= to + 1e-9) s.gripper_target = end;
+    }
+    return *this;
+  }
+  // The width from the step at `time` on, and the opening commanded over the interval that
+  // ends there and after it.
+  EpisodeBuilder& gripper_at(double time, double width, double target) {
+    for (StepRecord& s : log_.steps) {
+      if (s.time >= time - 1e-9) {
+        s.gripper_width = width;
+        s.gripper_target = target;
+      }
+    }
+    return *this;
+  }
+  // The opening commanded over the intervals that end at the steps with from < t <= to.
+  EpisodeBuilder& gripper_target(double from, double to, double target) {
+    for (StepRecord& s : log_.steps) {
+      if (s.time > from + 1e-9 && s.time <= to + 1e-9) s.gripper_target = target;
     }
     return *this;
   }
