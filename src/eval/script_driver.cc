@@ -309,7 +309,7 @@ void ScriptDriver::reset(const model::Model& model, sim::Data& data) {
 
 void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
   if (active_ < 0 || !model.has_human) return;
-  const ActMotion& body = motions_[static_cast<size_t>(active_)];
+  ActMotion& body = motions_[static_cast<size_t>(active_)];
   if (!body.playing()) return;
   human::SkeletonPose pose = body.pose_at(data.time() - body.start);
   // A walk that an act started mid-way keeps going: the root and the legs follow the latest
@@ -324,7 +324,7 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
     if (walker < 0 || m.start >= motions_[static_cast<size_t>(walker)].start) walker = static_cast<int>(i);
   }
   if (walker >= 0 && walker != active_) {
-    const ActMotion& m = motions_[static_cast<size_t>(walker)];
+    ActMotion& m = motions_[static_cast<size_t>(walker)];
     const human::SkeletonPose walk = m.pose_at(data.time() - m.start);
     pose.X_WP = walk.X_WP;
     for (const human::Joint j : kLegs) pose.local[static_cast<size_t>(human::index(j))] = walk.local[static_cast<size_t>(human::index(j))];
@@ -343,7 +343,7 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
         }
       }
     }
-    const ActMotion& m = motions_[static_cast<size_t>(owner[h])];
+    ActMotion& m = motions_[static_cast<size_t>(owner[h])];
     const double t = data.time() - m.start;
     labels[h] = m.label_at(t);
     if (owner[h] == active_) continue;
@@ -448,6 +448,7 @@ void ScriptDriver::start_plan(const model::Model& model, const sim::Data& data, 
     }
     throw core::InputError("acts." + script_->spec->acts[act].name + ".motion", "a scene object", name);
   };
+  motion.knots = {};
   motion.plan.emplace(human::plan_motion(model.skeleton, data.human_pose,
                                          primitive_params(*script_->spec, act, centre)));
   for (size_t h = 0; h < 2; ++h) motion.moves[h] = moves_hand(*motion.plan, h);

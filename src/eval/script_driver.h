@@ -110,6 +110,7 @@ class ScriptDriver : public ScenarioDriver {
     std::optional<human::MotionPlan> plan;  // a primitive's plan, or
     std::optional<human::Clip> clip;        // an imported clip, placed where the body stood
     human::Signals signals;
+    human::MotionPlan::Knots knots;  // the plan's leans solved at its knots (only saves work)
     size_t phase = 0;  // runtime phase index last seen
     double start = 0;  // s, act start
     bool started = false;
@@ -118,7 +119,7 @@ class ScriptDriver : public ScenarioDriver {
 
     bool playing() const { return plan || clip; }
     // At act time t: the pose, the labels (a clip's: no holds), a hand's swivel, the end.
-    human::SkeletonPose pose_at(double t) const { return plan ? plan->pose_at(t, signals) : clip->pose_at(t); }
+    human::SkeletonPose pose_at(double t) { return plan ? plan->pose_at(t, signals, &knots) : clip->pose_at(t); }
     human::FrameLabel label_at(double t) const { return plan ? plan->label_at(t, signals) : human::FrameLabel{}; }
     double swivel_at(double t, size_t h) const { return plan ? plan->key_at(t, signals).hands[h].swivel : 0.0; }
     double end_time() const { return plan ? plan->end_time(signals) : clip->duration(); }

@@ -430,11 +430,15 @@ BodyKey MotionPlan::interpolate(size_t segment, double tau) const {
   return out;
 }
 
-SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t) const {
+MotionPlan::Upright MotionPlan::upright(size_t segment, double tau, double t) const {
   const Skeleton& k = skeleton_;
-  const BodyKey key = interpolate(segment, tau);
+  Upright out;
+  out.segment = segment;
+  out.key = interpolate(segment, tau);
+  const BodyKey& key = out.key;
   const Segment* seg = segments_.empty() ? nullptr : &segments_[segment];
-  SkeletonPose pose;
+  out.s = seg != nullptr ? seg->profile.progress(tau) : 1.0;
+  SkeletonPose& pose = out.pose;
   pose.X_WP = key.X_WF * core::Pose{Quat::Identity(), Vec3(0, 0, k.pelvis_height)};
   const auto set = [&](Joint j, const Quat& q) { pose.local[static_cast<size_t>(index(j))] = q; };
   Vec3 sway_shift = Vec3::Zero();  // the hands go along with an idle weight shift
@@ -472,7 +476,6 @@ SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t) const 
   }
 
   // Hand targets in world: palm + tremor -> wrist, then the wrist-pivoted oscillation.
-  std::array<ArmTarget, 2> targets;
   for (size_t h = 0; h < 2; ++h) {
     const HandKey& hk = key.hands[h];
     Vec3 palm = hk.palm + sway_shift;
@@ -492,28 +495,96 @@ SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t) const 
       wrist_F += o.offset * w;
       R = (core::axis_angle(o.axis, o.angle * w) * R).normalized();
     }
-    targets[h] = {key.X_WF * wrist_F, hk.swivel, (key.X_WF.rotation * R).normalized(), hk.point};
+    out.targets[h] = {key.X_WF * wrist_F, hk.swivel, (key.X_WF.rotation * R).normalized(), hk.point};
   }
-  // Torso lean: the keys' leans interpolated on the segment's progress, or more where a hand
-  // reaching at both keys asks for more now. (A lean computed for each instant came in at once
-  // when a hand's target left the hanging zone, and a hand counted as hanging went with its
-  // shoulder until the instant its target left the zone: wrists jumped by decimetres.)
-  const Lean& l0 = leans_[segments_.empty() ? 0 : segment];
-  const Lean& l1 = leans_[segments_.empty() ? 0 : segment + 1];
-  const double s = seg != nullptr ? seg->profile.progress(tau) : 1.0;
+  return out;
+}
+
+// The keys' leans interpolated on the segment's progress. (A lean computed for each instant
+// came in at once when a hand's target left the hanging zone, and a hand counted as hanging
+// went with its shoulder until the instant its target left the zone: wrists jumped by
+// decimetres.)
+MotionPlan::KeyLean MotionPlan::key_lean(const Upright& u) const {
+  KeyLean out;
+  out.l0 = &leans_[segments_.empty() ? 0 : u.segment];
+  out.l1 = &leans_[segments_.empty() ? 0 : u.segment + 1];
+  const Lean& l0 = *out.l0;
+  const Lean& l1 = *out.l1;
+  const double s = u.s;
   const double w0 = first_key_weight(l0, l1, s);
-  double lean = w0 * l0.angle + s * l1.angle;
-  Vec3 lean_dir = w0 * l0.angle * l0.dir + s * l1.angle * l1.dir;
+  out.angle = w0 * l0.angle + s * l1.angle;
+  out.dir = w0 * l0.angle * l0.dir + s * l1.angle * l1.dir;
   // The knees bend as at the keys (a crouch decided now came in at once).
-  const double crouch = lean > 0 ? (w0 * l0.angle * l0.crouch + s * l1.angle * l1.crouch) / lean
-                                 : (1 - s) * l0.crouch + s * l1.crouch;
+  out.crouch = out.angle > 0 ? (w0 * l0.angle * l0.crouch + s * l1.angle * l1.crouch) / out.angle
+                             : (1 - s) * l0.crouch + s * l1.crouch;
+  return out;
+}
+
+MotionPlan::Knots::Need MotionPlan::knot_need(int64_t knot, const std::vector<Resolved>& times,
+                                              size_t h) const {
+  const double t = static_cast<double>(knot) * kLeanPeriod;
+  size_t segment = 0;
+  double tau = 1;
+  locate(t, times, segment, tau);
+  const Upright u = upright(segment, tau, t);
+  const KeyLean kl = key_lean(u);
+  Knots::Need need;
+  if (kl.l0->reaching[h] == 0 || kl.l1->reaching[h] == 0) return need;
+  need.angle = lean_need(skeleton_, u.pose, side_of(h), u.targets[h].wrist, need.dir, kl.crouch);
+  return need;
+}
+
+const MotionPlan::Knots::Need& MotionPlan::knot(int64_t knot, const std::vector<Resolved>& times,
+                                                size_t h, Knots& knots) const {
+  bool same = knots.ends.size() == times.size();
+  for (size_t i = 0; same && i < times.size(); ++i) same = knots.ends[i] == times[i].end;
+  if (!same) {  // other signals: other phase times, other knots
+    knots.ends.resize(times.size());
+    for (size_t i = 0; i < times.size(); ++i) knots.ends[i] = times[i].end;
+    knots.entries = {};
+  }
+  for (Knots::Entry& e : knots.entries) {
+    if (e.knot == knot && e.needs[h]) return *e.needs[h];
+  }
+  for (Knots::Entry& e : knots.entries) {
+    if (e.knot == knot) return *(e.needs[h] = knot_need(knot, times, h));
+  }
+  // A new knot replaces the earlier of the two kept.
+  Knots::Entry& e = knots.entries[0].knot < knots.entries[1].knot ? knots.entries[0] : knots.entries[1];
+  e = Knots::Entry{knot, {}};
+  return *(e.needs[h] = knot_need(knot, times, h));
+}
+
+SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t,
+                                    const std::vector<Resolved>& times, Knots& knots) const {
+  const Skeleton& k = skeleton_;
+  Upright u = upright(segment, tau, t);
+  const BodyKey& key = u.key;
+  const Segment* seg = segments_.empty() ? nullptr : &segments_[segment];
+  const double s = u.s;
+  SkeletonPose& pose = u.pose;
+  std::array<ArmTarget, 2>& targets = u.targets;
+  // Torso lean: the keys' leans, or more where a hand reaching at both keys asks for more. What
+  // a hand asks for is solved at the knots of plan time, every kLeanPeriod, and interpolated
+  // between them (docs/motion.md, "Leaning").
+  const KeyLean kl = key_lean(u);
+  const Lean& l0 = *kl.l0;
+  const Lean& l1 = *kl.l1;
+  double lean = kl.angle;
+  Vec3 lean_dir = kl.dir;
+  const double crouch = kl.crouch;
+  const double at = std::max(t, 0.0) / kLeanPeriod;
+  const auto before = static_cast<int64_t>(std::floor(at));
+  const double a = at - static_cast<double>(before);
   for (size_t h = 0; h < 2; ++h) {
     if (l0.reaching[h] == 0 || l1.reaching[h] == 0) continue;
-    Vec3 dir;
-    const double l = lean_need(k, pose, side_of(h), targets[h].wrist, dir, crouch);
-    if (l > lean) {
+    const Knots::Need n0 = knot(before, times, h, knots);
+    const Knots::Need& n1 = knot(before + 1, times, h, knots);
+    const double l = (1 - a) * n0.angle + a * n1.angle;
+    const Vec3 dir = (1 - a) * n0.angle * n0.dir + a * n1.angle * n1.dir;
+    if (l > lean && dir.norm() > 1e-12) {
       // Only the extra lean goes the hand's way (turning the whole lean at once swung the trunk).
-      lean_dir += (l - lean) * dir;
+      lean_dir += (l - lean) * dir.normalized();
       lean = l;
     }
   }
@@ -572,11 +643,13 @@ BodyKey MotionPlan::key_at(double t, const Signals& signals) const {
   return interpolate(i, tau);
 }
 
-SkeletonPose MotionPlan::pose_at(double t, const Signals& signals) const {
+SkeletonPose MotionPlan::pose_at(double t, const Signals& signals, Knots* knots) const {
   size_t i = 0;
   double tau = 1;
-  locate(t, resolve(signals, false), i, tau);
-  return build_pose(i, tau, t);
+  const auto times = resolve(signals, false);
+  locate(t, times, i, tau);
+  Knots fresh;
+  return build_pose(i, tau, t, times, knots != nullptr ? *knots : fresh);
 }
 
 FrameLabel MotionPlan::label_at(double t, const Signals& signals) const {
@@ -606,12 +679,13 @@ LabelledClip MotionPlan::to_clip(double fps, const Signals& signals) const {
     }
   }
   const auto n = static_cast<size_t>(std::ceil(end * fps - 1e-9)) + 1;
+  Knots knots;
   for (size_t f = 0; f < n; ++f) {
     const double t = static_cast<double>(f) / fps;
     size_t seg = 0;
     double tau = 1;
     locate(t, times, seg, tau);
-    out.clip.frames.push_back(build_pose(seg, tau, t));
+    out.clip.frames.push_back(build_pose(seg, tau, t, times, knots));
     const BodyKey key = interpolate(seg, tau);
     FrameLabel label;
     if (!segments_.empty()) label.phase = segments_[seg].phase;

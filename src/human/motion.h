@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "human/arm_ik.h"
 #include "human/clip.h"
 #include "human/minjerk.h"
 #include "human/primitives.h"
@@ -55,6 +56,11 @@ struct PrimitiveParams {
 // missing required parameter, a value of the wrong kind, a number outside its range or not
 // finite, or a choice not in the list.
 void validate(const PrimitiveParams& params);
+
+// How often a reaching hand's lean is solved (s of plan time, from 0): the trunk's lean between
+// two knots is interpolated between theirs (docs/motion.md, "Leaning"). As often as the robot
+// decides; solving it at every physics step cost C1, C4 and I2 more than their physics.
+inline constexpr double kLeanPeriod = 0.05;
 
 // Signals for reactive phases: phase name -> the time (s, plan time) its signal arrived. A
 // waiting phase lasts at least its nominal duration and ends at max(nominal end, signal time).
@@ -147,8 +153,30 @@ class MotionPlan {
   // End of the plan given the signals (+infinity while a phase waits).
   double end_time(const Signals& signals) const;
 
+  // What a caller that poses the plan at many instants keeps between calls: the lean each
+  // reaching hand asks for at the knots of plan time around the last instant (docs/motion.md,
+  // "Leaning"), so that each knot is solved once. It only saves work: a pose is the same with
+  // or without it. Give each plan its own, and a new one to a new plan.
+  class Knots {
+   public:
+    Knots() = default;
+
+   private:
+    friend class MotionPlan;
+    struct Need {
+      double angle = 0;  // rad
+      core::Vec3 dir = core::Vec3::UnitX();
+    };
+    struct Entry {
+      int64_t knot = -1;
+      std::array<std::optional<Need>, 2> needs;
+    };
+    std::vector<double> ends;  // the phases' resolved ends the knots were solved for
+    std::array<Entry, 2> entries;
+  };
+
   // The pose and labels at plan time t (clamped to [0, end]): deterministic, pure.
-  SkeletonPose pose_at(double t, const Signals& signals = {}) const;
+  SkeletonPose pose_at(double t, const Signals& signals = {}, Knots* knots = nullptr) const;
   FrameLabel label_at(double t, const Signals& signals = {}) const;
   // The body key at time t (targets, grips), before IK.
   BodyKey key_at(double t, const Signals& signals = {}) const;
@@ -175,7 +203,6 @@ class MotionPlan {
   // Which segment covers t, and the progress tau in it (index == size: after the end).
   void locate(double t, const std::vector<Resolved>& times, size_t& segment, double& tau) const;
   BodyKey interpolate(size_t segment, double tau) const;
-  SkeletonPose build_pose(size_t segment, double tau, double t) const;
   // The trunk lean at a key: the angle (rad) toward dir (pelvis frame = F, horizontal), per
   // hand 1 when its arm reaches (0: it hangs and moves with its shoulder) and how far a hanging
   // wrist goes with its shoulder (F, m). Within a segment the lean is interpolated between its
@@ -190,6 +217,32 @@ class MotionPlan {
     std::array<core::Vec3, 2> shift{core::Vec3::Zero(), core::Vec3::Zero()};
   };
   static Lean lean_of(const Skeleton& skeleton, const BodyKey& key);
+  // The body at time t before the trunk leans: the key, the segment's progress s, the pose
+  // (root, legs, gait, idle motion) and the hands' wrist targets.
+  struct Upright {
+    size_t segment = 0;
+    BodyKey key;
+    double s = 1;
+    SkeletonPose pose;
+    std::array<ArmTarget, 2> targets;
+  };
+  Upright upright(size_t segment, double tau, double t) const;
+  // The keys' leans interpolated at that instant: the angle (rad), its direction (scaled by the
+  // angle) and the crouch, with the two keys'.
+  struct KeyLean {
+    const Lean* l0 = nullptr;
+    const Lean* l1 = nullptr;
+    double angle = 0;
+    core::Vec3 dir = core::Vec3::Zero();
+    double crouch = 0;
+  };
+  KeyLean key_lean(const Upright& u) const;
+  // The lean hand h asks for at a knot (time knot * kLeanPeriod; 0 where it does not reach),
+  // solved, or kept in `knots`.
+  Knots::Need knot_need(int64_t knot, const std::vector<Resolved>& times, size_t h) const;
+  const Knots::Need& knot(int64_t knot, const std::vector<Resolved>& times, size_t h, Knots& knots) const;
+  SkeletonPose build_pose(size_t segment, double tau, double t, const std::vector<Resolved>& times,
+                          Knots& knots) const;
 
   Skeleton skeleton_;
   BodyKey start_;

@@ -768,5 +768,51 @@ TEST(MotionTest, ALowReachBendsTheKneesAndKeepsTheHeadNearTheFeet) {
   }
 }
 
+// Whole poses compared to the bit: the root and every joint's local rotation.
+bool same_pose(const SkeletonPose& a, const SkeletonPose& b) {
+  if (a.X_WP.translation != b.X_WP.translation || a.X_WP.rotation.coeffs() != b.X_WP.rotation.coeffs()) return false;
+  for (size_t j = 0; j < a.local.size(); ++j) {
+    if (a.local[j].coeffs() != b.local[j].coeffs()) return false;
+  }
+  return true;
+}
+
+TEST(MotionTest, TheLeansKeptAtTheKnotsOnlySaveWork) {
+  // A reaching hand's lean is solved at the knots of plan time (every kLeanPeriod) and
+  // interpolated between them; an episode keeps the knots it solved (MotionPlan::Knots). Posed
+  // every physics step with the knots kept, each pose is the one computed afresh, to the bit,
+  // also where a signal moves the knots.
+  const Skeleton k = Skeleton::FromHeight(1.60);
+  PrimitiveParams p = example("hold_lid");
+  p.points["handle"] = Vec3(kStandX - 0.62, 0, 0.9);  // beyond reach: the trunk leans
+  p.points["hinge"] = Vec3(kStandX - 0.87, 0, 0.9);
+  const MotionPlan plan = plan_motion(k, standing(k), p);
+  // Posed until 0.2 s after the waiting phase's (hold's) nominal end with no signal (the person
+  // holds the lid open), then with the signal dated at that nominal end: closing the lid is
+  // under way already, and the knots kept for the holding person no longer hold.
+  std::string waiting;
+  double nominal_end = 0;
+  for (const Segment& seg : plan.segments()) {
+    nominal_end += seg.duration;
+    if (seg.waits) {
+      waiting = seg.phase;
+      break;
+    }
+  }
+  const double signal_at = nominal_end + 0.2;
+  ASSERT_FALSE(waiting.empty());
+  MotionPlan::Knots knots;
+  Signals signals;
+  int leaning = 0;
+  const auto upright_spine = SkeletonPose::Standing(k, kStandX, 0, core::kPi).local[static_cast<size_t>(index(Joint::kSpine1))];
+  for (double t = 0; t < plan.nominal_duration() + 1; t += 0.0025) {
+    if (signals.empty() && t >= signal_at) signals[waiting] = nominal_end;
+    const SkeletonPose kept = plan.pose_at(t, signals, &knots);
+    ASSERT_TRUE(same_pose(kept, plan.pose_at(t, signals))) << "t = " << t;
+    if (kept.local[static_cast<size_t>(index(Joint::kSpine1))].angularDistance(upright_spine) > 0.05) ++leaning;
+  }
+  EXPECT_GT(leaning, 100);  // the trunk leaned in this plan
+}
+
 }  // namespace
 }  // namespace hribench::human
