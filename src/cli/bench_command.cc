@@ -345,7 +345,8 @@ int run_bench(const BenchOptions& o) {
               std::string(core::version()).c_str(), mj_versionString(), m->ngeom, m->nbody);
   std::printf("GL_RENDERER: %s (backend %s)\n\n", gl_renderer.c_str(),
               std::string(render::to_string(backend)).c_str());
-  std::printf("%-22s %14s %14s %12s %14s\n", "physics (dt 2 ms)", "ours steps/s", "raw steps/s",
+  const std::string physics_title = fmt::format("physics (dt {:g} ms)", 1000 * m->opt.timestep);
+  std::printf("%-22s %14s %14s %12s %14s\n", physics_title.c_str(), "ours steps/s", "raw steps/s",
               "ours x real", "cost ours/raw");
   for (const PhysicsResult& p : physics) {
     std::printf("%-22s %14.0f %14.0f %12.1f %14.3f\n",

@@ -146,10 +146,13 @@ void apply_physics(const std::string& name, model::Model& model) {
     char* end = nullptr;
     const double number = std::strtod(value.c_str(), &end);
     const bool numeric = !value.empty() && end == value.c_str() + value.size() && number > 0;
-    if (part == "implicit") {
+    if (part == "as-built") {
+    } else if (part == "implicit") {
       m->opt.integrator = mjINT_IMPLICIT;
+      model::servo_damping_in_servos(model);
     } else if (part == "euler") {
       m->opt.integrator = mjINT_EULER;
+      model::servo_damping_in_servos(model);
       for (const int a : model.arm_actuator) {
         const int joint = m->actuator_trnid[2 * a];
         m->dof_damping[m->jnt_dofadr[joint]] += model::servo_kv(*m, a);
@@ -157,6 +160,7 @@ void apply_physics(const std::string& name, model::Model& model) {
       }
     } else if (part == "euler-servo") {
       m->opt.integrator = mjINT_EULER;
+      model::servo_damping_in_servos(model);
       model::servo_damping_in_joints(model);
     } else if (key == "timestep" && numeric) {
       m->opt.timestep = number;
@@ -165,7 +169,7 @@ void apply_physics(const std::string& name, model::Model& model) {
     } else if (key == "tolerance" && numeric) {
       m->opt.tolerance = number;
     } else {
-      throw core::InputError("--physics", "implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, joined by '+'",
+      throw core::InputError("--physics", "as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, joined by '+'",
                              "'" + part + "'");
     }
   }
@@ -209,7 +213,7 @@ EpisodeFigures run_one(const script::EpisodeSpec& spec, const std::string& ref, 
   const long rss_before = measure_memory ? rss_kib() : 0;
   const Clock::time_point start = Clock::now();
   model::Model built = model::build(eval::scene_spec_from_episode(spec));
-  if (physics != "implicit") apply_physics(physics, built);
+  if (physics != "as-built") apply_physics(physics, built);
   auto model = std::make_shared<const model::Model>(std::move(built));
   eval::Episode episode(spec, policy.spec(), eval::setup_of(spec, ref), options, model);
   f.setup_seconds = seconds_since(start);
@@ -275,7 +279,7 @@ ScalingRow run_scaling(const std::vector<script::EpisodeSpec>& specs,
     pool.emplace_back([&, t] {
       for (size_t j = next++; j < jobs.size(); j = next++) {
         try {
-          run_one(*jobs[j].spec, *jobs[j].ref, runners[static_cast<size_t>(t)], options, "implicit", false);
+          run_one(*jobs[j].spec, *jobs[j].ref, runners[static_cast<size_t>(t)], options, "as-built", false);
         } catch (const std::exception& e) {
           std::lock_guard lock(error_mutex);
           if (error.empty()) error = e.what();

@@ -6,7 +6,7 @@
 // identically. The runner (eval/runner.h), `hribench render --at` and anything else that runs
 // an episode are loops over it; the log is written through it, never by a second loop.
 //
-// Control at 1 / control_dt (20 Hz), physics at 500 Hz (model::kTimestep). Step k of the log
+// Control at 1 / control_dt (20 Hz), physics at 400 Hz (model::kTimestep). Step k of the log
 // describes the world at time k * control_dt; a step executes one action (or holds the last
 // command) over one control interval. The episode ends at the horizon, once "success" has held
 // for MetricConstants::success_hold (stop_on_success), on a MuJoCo warning (status invalid),

@@ -411,7 +411,7 @@ Generated generate(const SceneSpec& spec) {
   g.xml = fmt::format(
       R"(<mujoco model="hribench">
 <compiler angle="radian" autolimits="true"/>
-<option timestep="{timestep}" integrator="implicit" cone="elliptic" impratio="10" tolerance="1e-8" iterations="50"/>
+<option timestep="{timestep}" integrator="Euler" cone="elliptic" impratio="10" tolerance="1e-8" iterations="50"/>
 <size njmax="{njmax}" nconmax="{nconmax}" nuserdata="{nuserdata}"/>
 {custom}<visual>
   <headlight ambient="0.35 0.35 0.35" diffuse="0.35 0.35 0.35" specular="0 0 0"/>
@@ -682,6 +682,7 @@ Model build(const SceneSpec& spec) {
     if (name != nullptr && std::strncmp(name, "table", 5) == 0)
       model.geom_tags[static_cast<size_t>(gid)].owner = GeomOwner::kTable;
   }
+  servo_damping_in_joints(model);
   return model;
 }
 
@@ -692,8 +693,13 @@ void servo_damping_in_joints(Model& model) {
   for (size_t j = 0; j < model.arm_actuator.size(); ++j) {
     m->dof_damping[model.arm_dof_adr[j]] += servo_kv(*m, model.arm_actuator[j]);
   }
-  for (const int dof : model.finger_dof_adr) m->dof_damping[dof] += 2 * servo_kv(*m, model.gripper_actuator);
   model.servo_damping_in_joints = true;
+}
+
+void servo_damping_in_servos(Model& model) {
+  mjModel* m = model.mj.get();
+  for (size_t j = 0; j < model.arm_actuator.size(); ++j) m->dof_damping[model.arm_dof_adr[j]] = model.robot.joints[j].damping;
+  model.servo_damping_in_joints = false;
 }
 
 }  // namespace hribench::model

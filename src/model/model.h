@@ -124,7 +124,7 @@ inline constexpr double kTableTopZ = 0.75;      // m
 inline constexpr double kTableXMin = -0.15;     // near edge (robot side), m
 inline constexpr double kTableXMax = 1.05;      // far edge (human side), m
 inline constexpr double kTableWidth = 1.0;      // along y, m
-inline constexpr double kTimestep = 0.002;      // s (500 Hz physics)
+inline constexpr double kTimestep = 0.0025;     // s (400 Hz physics; docs/performance.md, "Physics")
 
 // MuJoCo's preallocated arena of every mjData (docs/performance.md). MuJoCo 2.2.2 sizes the
 // constraint arrays by njmax, among them the njmax x njmax matrix efc_AR, and clears the whole
@@ -230,7 +230,8 @@ struct Model {
   std::vector<int> arm_qpos_adr;  // qpos addresses
   std::vector<int> arm_dof_adr;   // dof addresses
   std::vector<int> arm_actuator;  // position-servo actuator ids (ctrl = target, rad)
-  // Set by servo_damping_in_joints() (the euler-servo physics candidate, measured only).
+  // The servos' damping is in the joints' and sim::step adds it back (servo_damping_in_joints(),
+  // as built); false after servo_damping_in_servos().
   bool servo_damping_in_joints = false;
   std::vector<int> link_body;     // link body ids, base first
   std::array<int, 2> finger_joint{};        // left/right finger slide joints
@@ -296,15 +297,21 @@ struct Model {
 // rejects the generated MJCF (a bug: the message carries MuJoCo's error).
 Model build(const SceneSpec& spec);
 
-// A servo model the Euler integrator can integrate (the euler-servo candidate of `hribench
-// bench --episodes --physics`, docs/performance.md "Physics candidates"). Each servo's damping
-// kv (the bias's velocity gain, −biasprm[2]) is added to its joints' damping, which Euler
-// integrates implicitly, and stays in the servo, whose force limit clamps kp·e − kv·q̇ as built;
-// sim::step adds kv·q̇ back to the applied forces unclamped. So the damping the servo asks
-// for is integrated implicitly and its force limit still applies to the same sum. The gripper's
-// servo damps the opening q1 + q2: 2·kv per finger while its coupling equality keeps the
-// fingers together. Leaves the integrator to the caller.
+// The arm's servo model the Euler integrator integrates, as build() leaves it
+// (docs/performance.md, "Physics"). Each arm servo's damping kv (the bias's velocity gain,
+// −biasprm[2]) is added to its joint's damping, which Euler integrates implicitly, and stays in
+// the servo, whose force limit clamps kp·e − kv·q̇; sim::step adds kv·q̇ back to the applied
+// forces unclamped. So the damping the servo asks for is integrated implicitly and its force
+// limit still applies to the same sum. The gripper's servo keeps its damping (Euler takes it
+// explicitly: the fingers' armature is sized for it). Expects the arm's joints damped as the
+// robot's description says; leaves the integrator to the caller.
 void servo_damping_in_joints(Model& model);
+
+// The arm's servos of pool v4 and before, which the implicit integrator integrated: the joints
+// damped as the robot's description says, the damping in the servos alone, nothing added back
+// (the `implicit` candidate of `hribench bench --episodes --physics`, and tests that compare).
+// Leaves the integrator to the caller.
+void servo_damping_in_servos(Model& model);
 
 // A servo's damping kv (N·m·s/rad, or N·s/m for the gripper): its bias's velocity gain, −biasprm[2].
 double servo_kv(const mjModel& m, int actuator);

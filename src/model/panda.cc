@@ -118,7 +118,12 @@ Robot make_panda() {
   g.tcp_offset = 0.1034;
   g.finger_travel = 0.04;
   g.finger_z = 0.0584;
-  g.finger_armature = 0.01;
+  // The fingers' reflected drive inertia (kg). The gripper servo's damping (kv 40 N·s/m on the
+  // opening, 80 per finger) is taken explicitly by the Euler integrator: h·80/m must stay below
+  // 2 at the 2.5 ms step, which 0.01 and 0.05 kg did not (the fingers buzzed in place short of
+  // their target). Damping the fingers in their joints instead softened their contacts (a held
+  // cube squeezed to 31-49 mm of its 50): docs/performance.md, "Physics".
+  g.finger_armature = 0.1;
   g.finger_damping = 2;
   // Finger structure (behind the pad) and the high-friction pad on the inner face near the tip.
   g.finger_shape = box(Vec3(0, 0.009, 0.027), Vec3(0.01, 0.005, 0.027));

@@ -92,18 +92,13 @@ void pose_human(const model::Model& model, Data& data) {
 
 namespace {
 
-// The servos' velocity terms kv·q̇ that model::servo_damping_in_joints also put in the joints'
-// damping, added back unclamped (the gripper's on the opening's rate, to both fingers: its
-// tendon's moments are 1).
+// The arm servos' velocity terms kv·q̇ that model::servo_damping_in_joints also put in the
+// joints' damping, added back unclamped.
 void add_back_servo_damping(const model::Model& model, mjData& d) {
   const mjModel& m = *model.m();
   for (size_t j = 0; j < model.arm_actuator.size(); ++j) {
     const int dof = model.arm_dof_adr[j];
     d.qfrc_applied[dof] += model::servo_kv(m, model.arm_actuator[j]) * d.qvel[dof];
-  }
-  const double opening_rate = d.qvel[model.finger_dof_adr[0]] + d.qvel[model.finger_dof_adr[1]];
-  for (const int dof : model.finger_dof_adr) {
-    d.qfrc_applied[dof] = model::servo_kv(m, model.gripper_actuator) * opening_rate;
   }
 }
 

@@ -3,7 +3,7 @@
 // controller targets, the human pose and the human's hold state. One Data per thread; the
 // Model it was made from is shared read-only and must outlive it.
 //
-// Stepping: step() advances the world by one 500 Hz physics step (model::kTimestep = 2 ms):
+// Stepping: step() advances the world by one 400 Hz physics step (model::kTimestep = 2.5 ms):
 // it poses the human mocap bodies from data.human_pose (forward kinematics only when the pose
 // changed since the last step), applies the human hold wrenches and the robot's gravity
 // compensation, then calls mj_step. It allocates nothing.
@@ -89,7 +89,7 @@ void set_human_pose(const model::Model& model, Data& data, const human::Skeleton
 // kinematics); step() and forward() call it. No-op without a human.
 void pose_human(const model::Model& model, Data& data);
 
-// One physics step (2 ms). Allocation-free.
+// One physics step (model::kTimestep). Allocation-free.
 void step(const model::Model& model, Data& data);
 
 // Recomputes MuJoCo's derived quantities (positions, contacts, forces) for the current state

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "model/model.h"
 #include "support/run_command.h"
 
 namespace hribench::cli {
@@ -47,8 +49,8 @@ TEST(EpisodeBenchTest, RowPerTaskAndPolicyWithRatiosAndArenaUse) {
   EXPECT_EQ(j["tasks"][2]["task"], "handover_h2r");
   for (const auto& row : j["tasks"]) {
     EXPECT_EQ(row["episodes"], 1);
-    // 0.5 s at 20 Hz control, 25 physics steps each.
-    EXPECT_DOUBLE_EQ(row["physics_steps_per_episode"].get<double>(), 10 * 25) << row.dump();
+    // 0.5 s at 20 Hz control, 20 physics steps each.
+    EXPECT_DOUBLE_EQ(row["physics_steps_per_episode"].get<double>(), static_cast<double>(10 * std::lround(0.05 / model::kTimestep))) << row.dump();
     for (const char* key : {"seconds_per_episode", "setup_seconds_per_episode", "control_steps_per_second",
                             "physics_steps_per_second", "raw_physics_steps_per_second", "cost_ratio",
                             "run_cost_ratio"}) {
@@ -72,23 +74,23 @@ TEST(EpisodeBenchTest, RowPerTaskAndPolicyWithRatiosAndArenaUse) {
 
 TEST(EpisodeBenchTest, PhysicsCandidatesAreRowsComparedWithTheFirst) {
   // A candidate equal to the scene as built (50 solver iterations) gives the same episode
-  // (differ 0); Euler changes the physics, so its log differs from the implicit integrator's.
+  // (differ 0); the implicit integrator changes the physics, so its log differs.
   const nlohmann::json j = run_episode_bench_json(
       "--tasks I1 --policies noop --horizon 0.3 --threads 1 "
-      "--physics implicit,iterations=50,euler+iterations=20,timestep=0.005");
+      "--physics as-built,iterations=50,implicit+iterations=20,timestep=0.005");
   ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
   ASSERT_EQ(j["tasks"].size(), 4u);
-  EXPECT_EQ(j["tasks"][0]["physics"], "implicit");
+  EXPECT_EQ(j["tasks"][0]["physics"], "as-built");
   EXPECT_EQ(j["tasks"][1]["physics"], "iterations=50");
   EXPECT_EQ(j["tasks"][1]["differ_from_first_physics"], 0);
-  EXPECT_EQ(j["tasks"][2]["physics"], "euler+iterations=20");
+  EXPECT_EQ(j["tasks"][2]["physics"], "implicit+iterations=20");
   EXPECT_EQ(j["tasks"][2]["differ_from_first_physics"], 1);
-  // A 5 ms physics step: 10 steps per 50 ms control step instead of 25, a different episode.
+  // A 5 ms physics step: 10 steps per 50 ms control step instead of 20, a different episode.
   EXPECT_EQ(j["tasks"][3]["physics"], "timestep=0.005");
   EXPECT_EQ(j["tasks"][3]["differ_from_first_physics"], 1);
-  const double steps_2ms = j["tasks"][0]["physics_steps_per_episode"].get<double>();
-  EXPECT_GT(steps_2ms, 0);
-  EXPECT_EQ(2 * steps_2ms, 5 * j["tasks"][3]["physics_steps_per_episode"].get<double>());
+  const double steps_as_built = j["tasks"][0]["physics_steps_per_episode"].get<double>();
+  EXPECT_GT(steps_as_built, 0);
+  EXPECT_EQ(steps_as_built, 2 * j["tasks"][3]["physics_steps_per_episode"].get<double>());
 }
 
 TEST(EpisodeBenchTest, EulerKeepsTheOracleOnlyWithTheServoDampingAddedBack) {
@@ -115,7 +117,7 @@ TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
         {"bench --episodes --horizon -2", "--horizon: expected a positive number of seconds, got -2"},
         {"bench --episodes --policies nope", "policy: expected one of blind, gr00t, noop, openpi, oracle, random, reactive, got 'nope'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics rk4",
-         "--physics: expected implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, joined by '+', got 'rk4'"},
+         "--physics: expected as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, joined by '+', got 'rk4'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics timestep=0.003",
          "control_dt: expected a whole number of 3 ms physics steps, got 0.05 s"},
         {"bench --episodes --tasks I1 --horizon 0.1 --policies 'noop?cameras=wrist:64'",

@@ -19,7 +19,9 @@ TEST_F(ModelTest, DefaultSceneBuildsWithRobotObjectsHumanAndCameras) {
   const Model model = build(SceneSpec::Default());
   const mjModel* m = model.m();
   ASSERT_NE(m, nullptr);
-  EXPECT_DOUBLE_EQ(m->opt.timestep, 0.002);
+  EXPECT_DOUBLE_EQ(m->opt.timestep, kTimestep);
+  EXPECT_EQ(m->opt.integrator, mjINT_EULER);
+  EXPECT_TRUE(model.servo_damping_in_joints);
   EXPECT_EQ(m->nu, 8);
   EXPECT_EQ(m->nmocap, human::kNumJoints);
   ASSERT_EQ(model.objects.size(), 3u);

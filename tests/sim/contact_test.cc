@@ -102,7 +102,7 @@ class HandSweep : public testing::MujocoTest {
     BodyRegion min_region = BodyRegion::kTorso;
   };
 
-  // Sweeps the hand from y = -0.6 to +0.6 in 1.2 s (1 m/s), stepping the physics at 500 Hz.
+  // Sweeps the hand from y = -0.6 to +0.6 in 1.2 s (1 m/s), stepping the physics at 1 / model::kTimestep.
   SweepResult Sweep(double beside_x) {
     const mjData& d = *data_.mj;
     const auto link5_body = static_cast<size_t>(model_.link_body[5]);

@@ -16,7 +16,9 @@ namespace {
 using DataTest = testing::MujocoTest;
 using core::Vec3;
 
-void run(const model::Model& model, Data& data, int steps) {
+// Steps `seconds` of physics.
+void run(const model::Model& model, Data& data, double seconds) {
+  const int steps = static_cast<int>(std::lround(seconds / model::kTimestep));
   for (int i = 0; i < steps; ++i) step(model, data);
 }
 
@@ -37,7 +39,7 @@ TEST_F(DataTest, HomePoseIsCollisionFreeAndStableForTwoSeconds) {
   std::vector<Vec3> objects0;
   for (const auto& o : model.objects)
     objects0.emplace_back(d->qpos[o.qpos_adr], d->qpos[o.qpos_adr + 1], d->qpos[o.qpos_adr + 2]);
-  run(model, data, 1000);
+  run(model, data, 2.0);
   EXPECT_NEAR(data.time(), 2.0, 1e-9);
   const ArmVector q = arm_joint_positions(model, data);
   for (size_t i = 0; i < model.robot.dof(); ++i) EXPECT_NEAR(q[i], model.robot.joints[i].home, 1e-3) << i;
@@ -69,7 +71,7 @@ TEST_F(DataTest, EveryObjectKindRestsStablyOnTheTable) {
   }
   const model::Model model = model::build(spec);
   Data data = make_data(model);
-  run(model, data, 1000);
+  run(model, data, 2.0);
   const mjData* d = data.mj.get();
   for (const auto& o : model.objects) {
     const Vec3 p(d->qpos[o.qpos_adr], d->qpos[o.qpos_adr + 1], d->qpos[o.qpos_adr + 2]);
