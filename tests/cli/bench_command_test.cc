@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "model/model.h"
 #include "support/run_command.h"
 
 namespace hribench::cli {
@@ -51,7 +52,7 @@ TEST(BenchCommandTest, TinyRunWritesJsonWithEveryKey) {
   EXPECT_FALSE(j["gl_renderer"].get<std::string>().empty());
   EXPECT_NE(j["gl_renderer"], "none");
   for (const char* key : {"hribench_version", "git_hash"}) EXPECT_TRUE(j[key].is_string()) << key;
-  EXPECT_DOUBLE_EQ(j["timestep"].get<double>(), 0.002);
+  EXPECT_DOUBLE_EQ(j["timestep"].get<double>(), model::kTimestep);
   ASSERT_EQ(j["physics"].size(), 2u);
   EXPECT_EQ(j["physics"][0]["threads"], 1);
   EXPECT_EQ(j["physics"][1]["threads"], 2);

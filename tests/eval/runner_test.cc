@@ -262,7 +262,7 @@ TEST_F(RunnerTest, RobotShovedByThePenetratingHumanMovesAwayFromIt) {
   HandSweepDriver driver;
   RunOptions options;
   options.horizon = 0.8;
-  options.control_dt = 0.002;
+  options.control_dt = model::kTimestep;  // a control step per physics step
   const EpisodeLog log = run_episode(*model_, *data_, noop, driver, setup("noop"), options);
   ASSERT_EQ(log.status, core::EpisodeStatus::kOk) << log.status_reason;
   std::optional<double> entered;
