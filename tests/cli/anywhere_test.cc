@@ -57,7 +57,7 @@ TEST(AnywhereTest, RenderFindsTheTaskScriptFromAnotherFolder) {
 
 TEST(AnywhereTest, EvalOnAPoolGivenByAbsolutePathFromAnotherFolder) {
   const std::string dir = outside("pool_abs");
-  const std::string pool = (fs::path(HRIBENCH_SOURCE_DIR) / "pool" / "v4").string();
+  const std::string pool = (fs::path(HRIBENCH_SOURCE_DIR) / "pool" / "v5").string();
   const auto r = run_hribench_in(dir, "eval --pool " + pool +
                                           " --split eval --tasks X4 --policy noop --horizon 0.5 --out run");
   ASSERT_EQ(r.exit_code, 0) << r.output;

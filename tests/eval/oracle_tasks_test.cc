@@ -70,8 +70,8 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/X1_intrusion_yield.yaml", 1036},
                                            TaskCase{"tasks/X2_object_moved.yaml", 0},
                                            // Recovery: X2, the person put the bottle down on its
-                                           // side (grasped lying; pool/v4's adapt split, lying
-                                           // from 3.05 s); I5, lowering onto the tray the
+                                           // side (grasped lying; pool/v5's adapt split, on its
+                                           // side by 3.5 s); I5, lowering onto the tray the
                                            // person pointed at, beside them; X1 and I1, a cube
                                            // beside a bottle / a bin's wall (the other face pair).
                                            TaskCase{"tasks/X2_object_moved.yaml", 230430266582861},
