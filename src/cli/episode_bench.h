@@ -16,14 +16,15 @@
 // changing the benchmark's physics: each candidate is applied to the episode's compiled model
 // (the episode and its raw replay both run on it), and the rows of the later candidates count
 // the episodes whose outcome (success, status, primary label) or log differs from the first
-// candidate's. Candidates: as-built (the scene as built: euler-servo at 2.5 ms), implicit (the
-// implicit integrator with the servos' damping in the servos alone, model::servo_damping_in_servos:
-// pool v4's physics with timestep=0.002), euler (Euler integrator with the arm servos' damping
-// kv moved from the actuators' bias to the joints' damping, which Euler integrates implicitly),
-// euler-servo (Euler integrator with model::servo_damping_in_joints: kv also in the joints'
-// damping and added back unclamped, so the servos' force limits apply; as built), timestep=S
-// (the physics step, s; the 50 ms control step must hold a
-// whole number of them), iterations=N (solver iterations), tolerance=X (solver tolerance);
+// candidate's. Candidates: as-built (the scene as built: euler-servo at 2.5 ms); implicit (the
+// implicit integrator with the arm servos' damping in the servos alone,
+// model::servo_damping_in_servos: with timestep=0.002, pool v4's physics but for its lighter
+// fingers); euler (Euler integrator with the arm servos' damping kv moved from the actuators'
+// bias to the joints' damping, which Euler integrates implicitly); euler-servo (Euler
+// integrator with model::servo_damping_in_joints: kv also in the joints' damping and added
+// back unclamped, so the servos' force limits apply; as built); timestep=S (the physics step,
+// s; the 50 ms control step must hold a whole number of them); iterations=N (solver
+// iterations); tolerance=X (solver tolerance);
 // joined by '+' they combine (euler+iterations=20).
 
 #include <string>

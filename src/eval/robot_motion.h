@@ -5,8 +5,9 @@
 // The log samples the world at control steps t_0 < t_1 < ...; a motion quantity belongs to the
 // interval [t_{k-1}, t_k] between two steps: end-effector speed |p_k - p_{k-1}| / (t_k -
 // t_{k-1}), gripper rate |w_k - w_{k-1}| / (t_k - t_{k-1}) (for *moving*, only where the width
-// changes toward the opening commanded over the interval, StepRecord::gripper_target). Quantities the log samples
-// directly (separation, approach speed) are assigned to the interval that ends at their step.
+// changes toward the opening commanded over the interval, StepRecord::gripper_target).
+// Quantities the log samples directly (separation, approach speed) are assigned to the
+// interval that ends at their step.
 // A condition "sustained D" holds on the union of the maximal runs of consecutive intervals
 // where it holds whose total length is at least D.
 

@@ -31,9 +31,9 @@ namespace hribench::gen {
 // bottles, I5's lowering near a person and the cube's grasp faces (pool/v3, git 89f84a7-
 // 6e6b94a); 4: the robot in every spec and manifest, the person's bent-knee lean and fingers,
 // the reframed agentview, the at_rest filter and the visibility filter at 224 px (pool/v4,
-// git ed22767-7275c5b); 5: the Euler integrator at 2.5 ms with the servos' damping in the
-// joints, the person's lean solved every 50 ms, and fingers that move against the gripper's
-// command no longer counted as the robot moving (pool/v5).
+// git ed22767-7275c5b); 5: the Euler integrator at 2.5 ms with the arm servos' damping in the
+// joints and heavier fingers, the person's lean solved every 50 ms, and fingers that move
+// against the gripper's command no longer counted as the robot moving (pool/v5).
 inline constexpr int kPoolVersion = 5;
 
 enum class Split { kAdapt, kEval, kTest };

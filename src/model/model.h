@@ -316,7 +316,9 @@ void servo_damping_in_servos(Model& model);
 // A servo's damping kv (N·m·s/rad, or N·s/m for the gripper): its bias's velocity gain, −biasprm[2].
 double servo_kv(const mjModel& m, int actuator);
 
-// The MJCF text that build() would load (for inspection and tests); throws like build().
+// The MJCF text that build() loads (for inspection and tests); throws like build(). build()
+// then adds the arm servos' damping to the joints' (servo_damping_in_joints), which this text
+// does not show.
 std::string to_mjcf(const SceneSpec& spec);
 
 }  // namespace hribench::model
