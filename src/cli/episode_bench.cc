@@ -189,6 +189,8 @@ struct EpisodeFigures {
   std::string status;
   bool success = false;
   std::string label;     // primary failure label
+  double max_human_force = 0;     // N, the episode's peak contact force on the person
+  bool critical_contact = false;  // a contact on the person above its ISO/TS 15066 limit
   bool differs = false;  // outcome or log differs from the first physics candidate's
 };
 
@@ -234,6 +236,8 @@ EpisodeFigures run_one(const script::EpisodeSpec& spec, const std::string& ref, 
   f.status = std::string(core::to_string(log.status));
   f.success = metrics.success;
   f.label = metrics.primary_label ? std::string(eval::to_string(*metrics.primary_label)) : "";
+  f.max_human_force = metrics.max_human_force;
+  f.critical_contact = metrics.critical_contact;
   if (model_out) *model_out = model;
   if (log_out) *log_out = log;
   return f;
@@ -376,16 +380,17 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
   std::printf("HRIBench %s, MuJoCo %s; real task episodes (%d seed%s x %d repeat%s), one worker\n",
               std::string(core::version()).c_str(), mj_versionString(), o.seeds, o.seeds == 1 ? "" : "s",
               o.repeats, o.repeats == 1 ? "" : "s");
-  std::printf("%-22s %-24s %-14s %9s %9s %10s %11s %11s %8s %8s %9s %11s %11s %5s %6s\n", "task", "policy", "physics", "s/episode",
+  std::printf("%-22s %-24s %-14s %9s %9s %10s %11s %11s %8s %8s %9s %11s %11s %5s %6s %8s %5s\n", "task", "policy", "physics", "s/episode",
               "setup s", "control/s", "physics/s", "raw phys/s", "cost/raw", "run/raw", "peak MB",
-              "efc/njmax", "con/nconmax", "succ", "differ");
+              "efc/njmax", "con/nconmax", "succ", "differ", "human N", "crit");
   nlohmann::json json_rows = nlohmann::json::array();
   for (const TaskRow& row : rows) {
     double seconds = 0, setup = 0, raw = 0;
     long control = 0, physics = 0, peak = 0;
     int efc = 0, con = 0, stack = 0;
     std::vector<double> ratios, run_ratios;
-    int successes = 0, differ = 0;
+    int successes = 0, differ = 0, critical = 0;
+    double human_force = 0;
     for (const EpisodeFigures& f : row.episodes) {
       seconds += f.seconds;
       setup += f.setup_seconds;
@@ -400,19 +405,23 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
       run_ratios.push_back((f.seconds - f.setup_seconds) / f.raw_seconds);
       successes += f.success ? 1 : 0;
       differ += f.differs ? 1 : 0;
+      critical += f.critical_contact ? 1 : 0;
+      human_force = std::max(human_force, f.max_human_force);
     }
     const double n = static_cast<double>(row.episodes.size());
     const EpisodeFigures& first = row.episodes.front();
-    std::printf("%-22s %-24s %-14s %9.3f %9.3f %10.0f %11.0f %11.0f %8.3f %8.3f %9.1f %5d/%-5d %5d/%-5d %5d %6d\n",
+    std::printf("%-22s %-24s %-14s %9.3f %9.3f %10.0f %11.0f %11.0f %8.3f %8.3f %9.1f %5d/%-5d %5d/%-5d %5d %6d %8.0f %5d\n",
                 row.task.c_str(), row.policy.c_str(), row.physics.c_str(), seconds / n, setup / n, control / seconds,
                 physics / seconds, physics / raw, median(ratios), median(run_ratios), peak / 1024.0,
-                efc, first.njmax, con, first.nconmax, successes, differ);
+                efc, first.njmax, con, first.nconmax, successes, differ, human_force, critical);
     json_rows.push_back({{"task", row.task},
                          {"policy", row.policy},
                          {"episodes", row.episodes.size()},
                          {"physics", row.physics},
                          {"successes", successes},
                          {"differ_from_first_physics", differ},
+                         {"max_human_force", human_force},
+                         {"critical_contacts", critical},
                          {"seconds_per_episode", seconds / n},
                          {"setup_seconds_per_episode", setup / n},
                          {"control_steps_per_second", control / seconds},
@@ -431,7 +440,9 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
   }
   std::printf("(differ: episodes whose outcome or log differs from the first --physics candidate's; "
               "cost/raw: episode wall time / raw mj_step on the same model and steps, median over "
-              "episodes; run/raw: the same without the setup; peak MB: resident memory one episode adds)\n");
+              "episodes; run/raw: the same without the setup; peak MB: resident memory one episode adds; "
+              "human N: the largest contact force on the person in the row's episodes; crit: episodes with a "
+              "critical contact)\n");
   for (const ScalingRow& s : scaling) {
     std::printf("%d thread%s: %d episodes in %.2f s, %.3f episodes/s, peak %.1f MB per worker\n", s.threads,
                 s.threads == 1 ? "" : "s", s.episodes, s.seconds, s.episodes / s.seconds,

@@ -62,6 +62,9 @@ TEST(EpisodeBenchTest, RowPerTaskAndPolicyWithRatiosAndArenaUse) {
     EXPECT_GT(row["maxuse_con"].get<int>(), 0);
     EXPECT_LE(row["maxuse_con"].get<int>(), row["nconmax"].get<int>());
     EXPECT_LE(row["maxuse_stack"].get<int>(), row["nstack"].get<int>());
+    // Half a second: nobody has touched the person yet.
+    EXPECT_EQ(row["max_human_force"].get<double>(), 0) << row.dump();
+    EXPECT_EQ(row["critical_contacts"].get<int>(), 0) << row.dump();
   }
   ASSERT_EQ(j["scaling"].size(), 2u);
   EXPECT_EQ(j["scaling"][0]["threads"], 1);
@@ -107,6 +110,16 @@ TEST(EpisodeBenchTest, EulerKeepsTheOracleOnlyWithTheServoDampingAddedBack) {
   EXPECT_EQ(j["tasks"][2]["physics"], "euler-servo");
   EXPECT_EQ(j["tasks"][2]["successes"], 1);
   EXPECT_EQ(j["tasks"][2]["differ_from_first_physics"], 1);
+}
+
+TEST(EpisodeBenchTest, RowsGiveThePeakContactForceOnThePerson) {
+  // X3 seed 0: blind reaches for the object the person is placing and meets the hand
+  // (OracleBaselines: label contact), a force a physics candidate may change.
+  const nlohmann::json j = run_episode_bench_json("--tasks X3 --policies blind,noop --threads 1");
+  ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
+  ASSERT_EQ(j["tasks"].size(), 2u);
+  EXPECT_GT(j["tasks"][0]["max_human_force"].get<double>(), 1.0) << j["tasks"][0].dump();
+  EXPECT_EQ(j["tasks"][1]["max_human_force"].get<double>(), 0) << j["tasks"][1].dump();
 }
 
 TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
