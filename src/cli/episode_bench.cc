@@ -215,7 +215,7 @@ EpisodeFigures run_one(const script::EpisodeSpec& spec, const std::string& ref, 
   const long rss_before = measure_memory ? rss_kib() : 0;
   const Clock::time_point start = Clock::now();
   model::Model built = model::build(eval::scene_spec_from_episode(spec));
-  if (physics != "as-built") apply_physics(physics, built);
+  apply_physics(physics, built);
   auto model = std::make_shared<const model::Model>(std::move(built));
   eval::Episode episode(spec, policy.spec(), eval::setup_of(spec, ref), options, model);
   f.setup_seconds = seconds_since(start);
