@@ -438,8 +438,7 @@ HRIB_REGISTER_COMMAND(
           ->capture_default_str();
       app.add_option("--horizon", episodes->horizon, "--episodes: seconds (default: the script's)");
       app.add_option("--physics", episodes->physics,
-                     "--episodes: physics candidates to measure (implicit, euler, euler-servo, timestep=S, iterations=N, "
-                     "tolerance=X; '+' combines)")
+                     "--episodes: physics candidates to measure (" + std::string(kPhysicsCandidates) + "; '+' combines)")
           ->delimiter(',')
           ->capture_default_str();
       return [options, episodes, episode_mode] {

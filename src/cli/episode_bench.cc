@@ -168,8 +168,16 @@ void apply_physics(const std::string& name, model::Model& model) {
       m->opt.iterations = static_cast<int>(number);
     } else if (key == "tolerance" && numeric) {
       m->opt.tolerance = number;
+    } else if (key == "noslip" && numeric && number == std::floor(number) && number <= 1000) {
+      m->opt.noslip_iterations = static_cast<int>(number);
+    } else if (key == "finger-armature" && numeric) {
+      for (const int dof : model.finger_dof_adr) m->dof_armature[dof] = number;
+      // The constants MuJoCo derives from the inertia at compile time (dof_invweight0, which
+      // scales the contacts' regularisation) follow the new armature.
+      std::unique_ptr<mjData, sim::MjDataDeleter> scratch(mj_makeData(m));
+      mj_setConst(m, scratch.get());
     } else {
-      throw core::InputError("--physics", "as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, joined by '+'",
+      throw core::InputError("--physics", std::string(kPhysicsCandidates) + ", joined by '+'",
                              "'" + part + "'");
     }
   }
