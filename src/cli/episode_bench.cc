@@ -168,6 +168,8 @@ void apply_physics(const std::string& name, model::Model& model) {
       m->opt.iterations = static_cast<int>(number);
     } else if (key == "tolerance" && numeric) {
       m->opt.tolerance = number;
+    } else if (key == "impratio" && numeric) {
+      m->opt.impratio = number;
     } else if (key == "noslip" && numeric && number == std::floor(number) && number <= 1000) {
       m->opt.noslip_iterations = static_cast<int>(number);
     } else if (key == "finger-armature" && numeric) {

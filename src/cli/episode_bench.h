@@ -24,7 +24,8 @@
 // integrator with model::servo_damping_in_joints: kv also in the joints' damping and added
 // back unclamped, so the servos' force limits apply; as built); timestep=S (the physics step,
 // s; the 50 ms control step must hold a whole number of them); iterations=N (solver
-// iterations); tolerance=X (solver tolerance); noslip=N (iterations of MuJoCo's noslip
+// iterations); tolerance=X (solver tolerance); impratio=X (the ratio of frictional to normal
+// constraint impedance, 10 as built); noslip=N (iterations of MuJoCo's noslip
 // solver, none as built); finger-armature=KG (the gripper fingers' armature, 0.1 kg as built;
 // MuJoCo's constants derived from the inertia are recomputed); joined by '+' they combine
 // (euler+iterations=20).
@@ -37,8 +38,8 @@ namespace hribench::cli {
 
 // The --physics candidates (above), as the help and the error messages name them.
 inline constexpr std::string_view kPhysicsCandidates =
-    "as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, noslip=N, "
-    "finger-armature=KG";
+    "as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, impratio=X, "
+    "noslip=N, finger-armature=KG";
 
 struct EpisodeBenchOptions {
   std::string tasks = "all";           // task ids or names (gen::resolve_task_scripts)
