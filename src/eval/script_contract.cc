@@ -60,7 +60,7 @@ StartPositions start_positions(const script::ActGraph& graph, const model::Model
 // Positive atoms of a predicate (outside any `not`), in order.
 void positive_atoms(const script::Predicate& p, std::vector<const script::Predicate*>& out) {
   if (p.atom == script::Atom::kNot) return;
-  if (p.atom == script::Atom::kAnd || p.atom == script::Atom::kOr) {
+  if (p.atom == script::Atom::kAnd || p.atom == script::Atom::kOr || p.atom == script::Atom::kEver) {
     for (const script::Predicate& child : p.children) positive_atoms(child, out);
     return;
   }

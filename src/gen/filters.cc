@@ -69,6 +69,7 @@ void robot_targets(const script::Predicate& p, RobotTargets& out) {
     case Atom::kNot: return;
     case Atom::kAnd:
     case Atom::kOr:
+    case Atom::kEver:
       for (const script::Predicate& c : p.children) robot_targets(c, out);
       return;
     case Atom::kGrasped:

@@ -135,6 +135,16 @@ class PredicateParser {
       p.children.push_back(parse_unary(depth + 1));
       return p;
     }
+    if (is_word("ever")) {
+      next();
+      Predicate p;
+      p.atom = Atom::kEver;
+      expect("(");
+      p.children.push_back(parse_or(depth + 1));
+      expect(")");
+      p.slot = slots_++;
+      return p;
+    }
     if (is_punct("(")) {
       next();
       Predicate p = parse_or(depth + 1);
@@ -278,6 +288,9 @@ bool eval(const Predicate& p, const WorldSnapshot& w, PredicateMemory& m) {
   switch (p.atom) {
     case Atom::kNot:
       return !eval(p.children[0], w, m);
+    case Atom::kEver:
+      if (eval(p.children[0], w, m)) m.latched[p.slot] = 1;
+      return m.latched[p.slot] != 0;
     case Atom::kAnd: {
       bool all = true;  // every child is evaluated so memories stay up to date
       for (const Predicate& c : p.children) all = eval(c, w, m) && all;
@@ -406,6 +419,7 @@ std::optional<HoldingAtom> holding_atom(const Predicate& predicate) {
 std::vector<std::string> predicate_names() {
   std::vector<std::string> names;
   for (const Signature& s : signatures()) names.emplace_back(s.name);
+  names.emplace_back("ever");
   names.emplace_back("not");
   names.emplace_back("and");
   names.emplace_back("or");

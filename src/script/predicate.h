@@ -4,7 +4,8 @@
 // bound to the scene's object names (type-checked), then evaluated on WorldSnapshots.
 //
 // Grammar:  pred := or;  or := and ('or' and)*;  and := unary ('and' unary)*;
-//           unary := 'not' unary | '(' pred ')' | atom;  atom := NAME '(' args ')' [('<'|'>') NUMBER]
+//           unary := 'not' unary | 'ever' '(' pred ')' | '(' pred ')' | atom;
+//           atom := NAME '(' args ')' [('<'|'>') NUMBER]
 // Arguments are words (object names, robot, human.left|right|any, table) or numbers.
 //
 // Atoms (o, c, s: scene objects; A, B: robot | human.left | human.right | an object):
@@ -27,6 +28,9 @@
 //                            |dz| < kClearHeight), no other object on o's footprint
 //   open(o, deg)             o's lid open at least deg degrees
 //   tilt(o) < deg            angle between o's z axis and world z, degrees ('<' or '>')
+// and one operator over time:
+//   ever(P)                  latched: P held at some control step of the episode so far (its
+//                            child is evaluated at every step, so P's own memories stay current)
 
 #include <memory>
 #include <optional>
@@ -54,7 +58,7 @@ inline constexpr size_t kMaxPredicateNodes = 64;
 
 enum class Atom {
   kGrasped, kHeld, kHeldFor, kIn, kOn, kNear, kMoved, kDropped, kAtHome, kStill, kClear,
-  kOpen, kTilt, kNot, kAnd, kOr
+  kOpen, kTilt, kEver, kNot, kAnd, kOr
 };
 
 // One argument after binding.
@@ -68,10 +72,10 @@ struct Arg {
 struct Predicate {
   Atom atom = Atom::kAnd;
   std::vector<Arg> args;
-  std::vector<Predicate> children;  // not: 1, and/or: >= 2
+  std::vector<Predicate> children;  // not, ever: 1; and/or: >= 2
   char compare = 0;                 // tilt: '<' or '>'
   double threshold = 0;             // tilt: degrees
-  size_t slot = 0;                  // memory slot (held_for, dropped, still)
+  size_t slot = 0;                  // memory slot (held_for, dropped, still, ever)
 };
 
 // A predicate, bound, with the source text it came from.
@@ -106,7 +110,7 @@ std::optional<HoldingAtom> holding_atom(const Predicate& predicate);
 // What a predicate remembers between steps (one per bound predicate and per episode).
 struct PredicateMemory {
   std::vector<double> since;   // held_for/still: time the condition began; NaN = not holding
-  std::vector<char> latched;   // dropped
+  std::vector<char> latched;   // dropped, ever
 };
 PredicateMemory make_memory(const BoundPredicate& predicate);
 

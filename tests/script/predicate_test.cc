@@ -49,7 +49,7 @@ bool eval_once(const std::string& source, const WorldSnapshot& w) {
 TEST(PredicateTest, TypeChecksArityKindsAndNames) {
   EXPECT_EQ(error_of("grasp(robot, cup)"),
             ": expected a predicate (grasped, held, held_for, in, on, near, moved, dropped, at_home, "
-            "still, clear, open, tilt, not, and, or), got 'grasp'");
+            "still, clear, open, tilt, ever, not, and, or), got 'grasp'");
   EXPECT_EQ(error_of("near(robot, cup)"), ": expected 3 argument(s): near(A, B, METRES), got 2");
   EXPECT_EQ(error_of("grasped(robot, cup, 1)"), ": expected 2 argument(s): grasped(robot, OBJECT), got more");
   EXPECT_EQ(error_of("grasped(cup, robot)"), ": expected robot as argument 1 of grasped(robot, OBJECT), got 'cup'");
@@ -68,6 +68,12 @@ TEST(PredicateTest, TypeChecksArityKindsAndNames) {
   EXPECT_NE(error_of(std::string(40, '(') + "still(robot)" + std::string(40, ')')).find("nested at most 16"),
             std::string::npos);
   EXPECT_EQ(error_of("not in(cup, bin) and (held(human.any, cup) or tilt(plate) > 10)"), "(no error)");
+  EXPECT_EQ(error_of("ever grasped(robot, cup)"), ": expected '(', got 'grasped'");
+  EXPECT_EQ(error_of("ever(grasped(robot, cup)"), ": expected ')', got the end");
+  EXPECT_EQ(error_of("ever(grasped(robot, mug))"),
+            ": expected a scene object as argument 2 of grasped(robot, OBJECT) (scene objects: cup, bin, plate, "
+            "box), got 'mug'");
+  EXPECT_EQ(error_of("ever(grasped(robot, cup) and moved(cup, 0.1)) and not ever(dropped(cup))"), "(no error)");
 }
 
 TEST(PredicateTest, GeometryAtoms) {
@@ -141,6 +147,27 @@ TEST(PredicateTest, MemoryAcrossSteps) {
   }
   EXPECT_DOUBLE_EQ(first_held, 19 * 0.05);   // grasped again from k = 15, 0.2 s later
   EXPECT_DOUBLE_EQ(first_still, 24 * 0.05);  // still from k = 20, for 0.2 s
+}
+
+// ever(P) latches the first step P holds and keeps evaluating P, so a remembered condition
+// inside it counts on after the latch.
+TEST(PredicateTest, EverLatchesTheFirstStepItsChildHolds) {
+  const BoundPredicate p = bind_predicate("ever(held_for(robot, cup, 0.1) and moved(cup, 0.05))", kObjects);
+  const BoundPredicate later = bind_predicate("ever(held_for(robot, cup, 0.3))", kObjects);
+  EXPECT_EQ(p.slots, 2u);  // the latch and held_for's start
+  PredicateMemory m = make_memory(p), ml = make_memory(later);
+  for (int k = 0; k <= 20; ++k) {
+    WorldSnapshot w = scene();
+    w.time = k * 0.05;
+    // Grasped from k = 2 to 9 (lifted 0.1 m from k = 5), free again from k = 10.
+    const bool grasp = k >= 2 && k <= 9;
+    w.objects[0].left_finger_contact = w.objects[0].right_finger_contact = grasp;
+    if (k >= 5 && k <= 9) w.objects[0].X_WO.translation.z() += 0.1;
+    EXPECT_EQ(evaluate(p, w, m), k >= 5) << k;      // held 0.15 s and lifted at k = 5
+    EXPECT_EQ(evaluate(later, w, ml), k >= 8) << k;  // held for 0.3 s at k = 8
+  }
+  EXPECT_FALSE(eval_once("ever(grasped(robot, cup))", scene()));
+  EXPECT_TRUE(eval_once("not ever(grasped(robot, cup))", scene()));
 }
 
 // and/or evaluate every child, so a remembered condition keeps counting inside them.
