@@ -33,8 +33,10 @@ namespace hribench::gen {
 // the reframed agentview, the at_rest filter and the visibility filter at 224 px (pool/v4,
 // git ed22767-7275c5b); 5: the Euler integrator at 2.5 ms with the arm servos' damping in the
 // joints and heavier fingers, the person's lean solved every 50 ms, and fingers that move
-// against the gripper's command no longer counted as the robot moving (pool/v5).
-inline constexpr int kPoolVersion = 5;
+// against the gripper's command no longer counted as the robot moving (pool/v5, git
+// b1bfa23-13a8883); 6: co_lift's success also asks for the robot's share of the lift,
+// ever(grasped(robot, plank) and moved(plank, 0.10) and tilt(plank) < 15) (pool/v6).
+inline constexpr int kPoolVersion = 6;
 
 enum class Split { kAdapt, kEval, kTest };
 std::string_view to_string(Split split);  // "adapt" | "eval" | "test"

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gen/pool.h"
 #include "support/run_command.h"
 #include "support/test_files.h"
 
@@ -57,7 +58,9 @@ TEST(AnywhereTest, RenderFindsTheTaskScriptFromAnotherFolder) {
 
 TEST(AnywhereTest, EvalOnAPoolGivenByAbsolutePathFromAnotherFolder) {
   const std::string dir = outside("pool_abs");
-  const std::string pool = (fs::path(HRIBENCH_SOURCE_DIR) / "pool" / "v5").string();
+  // The released pool (pool/vN, N = gen::kPoolVersion).
+  const std::string pool =
+      (fs::path(HRIBENCH_SOURCE_DIR) / "pool" / ("v" + std::to_string(gen::kPoolVersion))).string();
   const auto r = run_hribench_in(dir, "eval --pool " + pool +
                                           " --split eval --tasks X4 --policy noop --horizon 0.5 --out run");
   ASSERT_EQ(r.exit_code, 0) << r.output;

@@ -70,7 +70,7 @@ INSTANTIATE_TEST_SUITE_P(Tasks, OracleTask,
                                            TaskCase{"tasks/X1_intrusion_yield.yaml", 1036},
                                            TaskCase{"tasks/X2_object_moved.yaml", 0},
                                            // Recovery: X2, the person put the bottle down on its
-                                           // side (grasped lying; pool/v5's adapt split, on its
+                                           // side (grasped lying; pool/v6's adapt split, on its
                                            // side by 3.5 s); I5, lowering onto the tray the
                                            // person pointed at, beside them; X1 and I1, a cube
                                            // beside a bottle / a bin's wall (the other face pair).
@@ -158,6 +158,21 @@ TEST(OracleBaselines, BlindLiftsThePlankBeforeThePersonsCue) {
   const Outcome blind = run_task("tasks/C4_co_lift.yaml", 0, "blind");
   EXPECT_FALSE(blind.metrics.success);
   EXPECT_EQ(blind.metrics.primary_label, FailureLabel::kPremature) << describe(blind);
+}
+
+// C4, seed 1683595962454 (pool/v5's eval split): the person drags the plank onto the platform
+// alone, its robot end sliding along the support. The plank ends on the platform, level, but
+// `noop` never held its end, and success asks for the robot's share of the lift (the latched
+// ever(...) of the script's success; noop succeeded here up to benchmark version 5).
+TEST(OracleBaselines, NoopGetsNoShareOfAPlankThePersonDragsOntoThePlatform) {
+  const Outcome noop = run_task("tasks/C4_co_lift.yaml", 1683595962454, "noop");
+  EXPECT_FALSE(noop.metrics.success) << describe(noop);
+  std::string on_platform = "never";
+  for (const Event& e : noop.log.events) {
+    if (e.kind == EventKind::kPredicateChange && e.name == "on(plank, platform)") on_platform = e.detail;
+  }
+  EXPECT_EQ(on_platform, "true") << describe(noop);
+  EXPECT_EQ(noop.metrics.primary_label, FailureLabel::kNoResponse) << describe(noop);
 }
 
 // C3: reactive waits for the lid like the oracle; blind reaches for the cup at once, into the
