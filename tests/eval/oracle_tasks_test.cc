@@ -160,10 +160,10 @@ TEST(OracleBaselines, BlindLiftsThePlankBeforeThePersonsCue) {
   EXPECT_EQ(blind.metrics.primary_label, FailureLabel::kPremature) << describe(blind);
 }
 
-// C4, seed 1683595962454 (pool/v5's eval split): the person drags the plank onto the platform
-// alone, its robot end sliding along the support. The plank ends on the platform, level, but
-// `noop` never held its end, and success asks for the robot's share of the lift (the latched
-// ever(...) of the script's success; noop succeeded here up to benchmark version 5).
+// C4, seed 1683595962454 (eval split of pool/v5 and v6): the person drags the plank onto the
+// platform alone, its robot end sliding along the support. The plank ends on the platform,
+// level, but `noop` never held its end, and success asks for the robot's share of the lift
+// (the latched ever(...) of the script's success; noop succeeded here up to version 5).
 TEST(OracleBaselines, NoopGetsNoShareOfAPlankThePersonDragsOntoThePlatform) {
   const Outcome noop = run_task("tasks/C4_co_lift.yaml", 1683595962454, "noop");
   EXPECT_FALSE(noop.metrics.success) << describe(noop);
