@@ -25,10 +25,10 @@
 // back unclamped, so the servos' force limits apply; as built); timestep=S (the physics step,
 // s; the 50 ms control step must hold a whole number of them); iterations=N (solver
 // iterations); tolerance=X (solver tolerance); impratio=X (the ratio of frictional to normal
-// constraint impedance, 10 as built); noslip=N (iterations of MuJoCo's noslip
-// solver, none as built); finger-armature=KG (the gripper fingers' armature, 0.1 kg as built;
-// MuJoCo's constants derived from the inertia are recomputed); joined by '+' they combine
-// (euler+iterations=20).
+// constraint impedance); noslip=N (iterations of MuJoCo's noslip solver, none as built);
+// finger-armature=KG (the gripper fingers' armature, as built the robot description's
+// finger_armature; MuJoCo's constants derived from the inertia are recomputed); joined by '+'
+// they combine (euler+iterations=20).
 
 #include <string>
 #include <string_view>

@@ -544,10 +544,9 @@ const MotionPlan::Knots::Need& MotionPlan::knot(int64_t knot, const std::vector<
     knots.entries = {};
   }
   for (Knots::Entry& e : knots.entries) {
-    if (e.knot == knot && e.needs[h]) return *e.needs[h];
-  }
-  for (Knots::Entry& e : knots.entries) {
-    if (e.knot == knot) return *(e.needs[h] = knot_need(knot, times, h));
+    if (e.knot != knot) continue;
+    if (!e.needs[h]) e.needs[h] = knot_need(knot, times, h);
+    return *e.needs[h];
   }
   // A new knot replaces the earlier of the two kept.
   Knots::Entry& e = knots.entries[0].knot < knots.entries[1].knot ? knots.entries[0] : knots.entries[1];
