@@ -26,6 +26,7 @@
 #include "eval/episode.h"
 #include "eval/episode_log.h"
 #include "eval/metrics.h"
+#include "eval/raw_replay.h"
 #include "eval/runner.h"
 #include "eval/script_driver.h"
 #include "gen/pool.h"
@@ -73,61 +74,6 @@ bool reset_peak_rss() {
   clear << "5";
   clear.flush();
   return static_cast<bool>(clear);
-}
-
-// ---- The raw replay: an episode's servo targets and human poses, for mj_step alone. ----
-
-struct Replay {
-  int substeps = 0;
-  int control_steps = 0;
-  int nu = 0;
-  int nmocap = 0;
-  std::vector<mjtNum> ctrl;        // control_steps x nu
-  std::vector<mjtNum> mocap_pos;   // control_steps x nmocap x 3
-  std::vector<mjtNum> mocap_quat;  // control_steps x nmocap x 4
-};
-
-// Interval k (step k -> k + 1) runs with the servo targets recorded at step k + 1 (the
-// targets the action of that interval set) and the human posed as at step k.
-Replay make_replay(const model::Model& model, const eval::EpisodeLog& log, int substeps) {
-  const mjModel* m = model.m();
-  Replay r;
-  r.substeps = substeps;
-  r.control_steps = static_cast<int>(log.steps.size()) - 1;
-  r.nu = m->nu;
-  r.nmocap = model.has_human ? m->nmocap : 0;
-  sim::Data poser = sim::make_data(model);
-  for (int k = 0; k < r.control_steps; ++k) {
-    const eval::StepRecord& next = log.steps[static_cast<size_t>(k + 1)];
-    std::vector<mjtNum> ctrl(poser.mj->ctrl, poser.mj->ctrl + m->nu);
-    for (size_t j = 0; j < next.joint_target.size(); ++j) ctrl[model.arm_actuator[j]] = next.joint_target[j];
-    ctrl[model.gripper_actuator] = next.gripper_target;
-    r.ctrl.insert(r.ctrl.end(), ctrl.begin(), ctrl.end());
-    if (r.nmocap == 0) continue;
-    sim::set_human_pose(model, poser, log.steps[static_cast<size_t>(k)].human_pose);
-    sim::pose_human(model, poser);
-    r.mocap_pos.insert(r.mocap_pos.end(), poser.mj->mocap_pos, poser.mj->mocap_pos + 3 * r.nmocap);
-    r.mocap_quat.insert(r.mocap_quat.end(), poser.mj->mocap_quat, poser.mj->mocap_quat + 4 * r.nmocap);
-  }
-  return r;
-}
-
-// Seconds of raw mj_step replaying `replay` from the home keyframe on `raw` (made for m).
-double run_raw(const mjModel* m, mjData* raw, const Replay& r) {
-  mj_resetDataKeyframe(m, raw, 0);
-  const size_t nu = static_cast<size_t>(r.nu);
-  const size_t np = static_cast<size_t>(3 * r.nmocap);
-  const size_t nq = static_cast<size_t>(4 * r.nmocap);
-  const Clock::time_point start = Clock::now();
-  for (size_t k = 0; k < static_cast<size_t>(r.control_steps); ++k) {
-    std::memcpy(raw->ctrl, &r.ctrl[k * nu], sizeof(mjtNum) * nu);
-    if (np > 0) {
-      std::memcpy(raw->mocap_pos, &r.mocap_pos[k * np], sizeof(mjtNum) * np);
-      std::memcpy(raw->mocap_quat, &r.mocap_quat[k * nq], sizeof(mjtNum) * nq);
-    }
-    for (int i = 0; i < r.substeps; ++i) mj_step(m, raw);
-  }
-  return seconds_since(start);
 }
 
 // ---- Physics candidates (measured only; the benchmark's physics is the scene as built). ----
@@ -218,7 +164,7 @@ struct Runner {
 EpisodeFigures run_one(const script::EpisodeSpec& spec, const std::string& ref, Runner& runner,
                        const eval::RunOptions& options, const std::string& physics, bool measure_memory,
                        std::shared_ptr<const model::Model>* model_out = nullptr,
-                       eval::EpisodeLog* log_out = nullptr) {
+                       eval::EpisodeLog* log_out = nullptr, eval::EpisodeObserver* observer = nullptr) {
   policy::Policy& policy = runner.policy(ref);
   EpisodeFigures f;
   const bool peak_known = measure_memory && reset_peak_rss();
@@ -228,6 +174,7 @@ EpisodeFigures run_one(const script::EpisodeSpec& spec, const std::string& ref, 
   apply_physics(physics, built);
   auto model = std::make_shared<const model::Model>(std::move(built));
   eval::Episode episode(spec, policy.spec(), eval::setup_of(spec, ref), options, model);
+  if (observer) episode.add_observer(*observer);
   f.setup_seconds = seconds_since(start);
   const eval::EpisodeLog& log = eval::run_episode(episode, policy);
   const eval::EpisodeMetrics metrics = episode.metrics();
@@ -341,7 +288,8 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
   eval::RunOptions options;
   options.horizon = o.horizon;
 
-  // Per task, policy and physics: episode, raw, episode, raw, ... (one worker, this thread).
+  // Per task, policy and physics: one recording run, then the timed runs with raw MuJoCo
+  // alongside (one worker, this thread).
   if (o.physics.empty()) throw core::InputError("--physics", "a list of physics candidates", "none");
   std::vector<TaskRow> rows;
   std::map<std::tuple<std::string, std::string, std::string>, size_t> row_of;  // -> rows
@@ -358,14 +306,32 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
           rows.push_back({spec.task, ref, physics, {}});
         }
         TaskRow& row = rows[row_of[key]];
+        // What raw MuJoCo replays comes from one more run of the episode, not timed: an episode
+        // is deterministic, so the timed runs' logs are its log (checked).
+        const std::string what = fmt::format("{} seed {} with {} ({})", spec.task, spec.seed, ref, physics);
+        const auto check_raw = [&what](long differs) {
+          if (differs < 0) return;
+          throw core::InputError::Message(
+              "bench --episodes", fmt::format("raw mj_step did not make physics step {} of {} as the episode did", differs, what));
+        };
+        eval::RawRecording recording;
+        eval::EpisodeLog recorded;
+        std::shared_ptr<const model::Model> model;
+        run_one(spec, ref, runner, options, physics, false, &model, &recorded, &recording);
+        // Raw's data, made and used once before the timed runs (its memory is not theirs).
+        const sim::MjDataPtr raw(mj_makeData(model->m()));
+        mj_resetData(model->m(), raw.get());
+        check_raw(recording.replay(model->m(), raw.get(), 0, recording.steps()));
         for (int r = 0; r < o.repeats; ++r) {
-          std::shared_ptr<const model::Model> model;
           eval::EpisodeLog log;
-          EpisodeFigures f = run_one(spec, ref, runner, options, physics, true, &model, &log);
-          const Replay replay = make_replay(*model, log, static_cast<int>(f.physics_steps / std::max(1L, f.control_steps)));
-          mjData* raw = mj_makeData(model->m());
-          f.raw_seconds = run_raw(model->m(), raw, replay);
-          mj_deleteData(raw);
+          eval::RawAlongside alongside(recording, raw.get());
+          EpisodeFigures f = run_one(spec, ref, runner, options, physics, true, nullptr, &log, &alongside);
+          if (!eval::identical(log, recorded)) {
+            throw core::InputError::Message("bench --episodes", what + " ran differently twice");
+          }
+          check_raw(alongside.differs());
+          f.raw_seconds = alongside.seconds();
+          f.seconds -= f.raw_seconds;
           const size_t k = static_cast<size_t>(r);
           if (physics == o.physics.front()) {
             first_logs.push_back(std::move(log));
@@ -449,8 +415,8 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
                          {"nstack", first.nstack}});
   }
   std::printf("(differ: episodes whose outcome or log differs from the first --physics candidate's; "
-              "cost/raw: episode wall time / raw mj_step on the same model and steps, median over "
-              "episodes; run/raw: the same without the setup; peak MB: resident memory one episode adds; "
+              "cost/raw: episode wall time / raw mj_step making the same steps on the same model, "
+              "alongside, median over episodes; run/raw: the same without the setup; peak MB: resident memory one episode adds; "
               "human N: the largest contact force on the person in the row's episodes; crit: episodes with a "
               "critical contact)\n");
   for (const ScalingRow& s : scaling) {

@@ -1,20 +1,21 @@
 #pragma once
 // `hribench bench --episodes`: the cost of real task episodes (docs/performance.md). For every
 // (task, policy) it runs sampled episodes of the task exactly as `hribench eval` does (the
-// scene's model built, an eval::Episode, eval::run_episode, the metrics) and, in the same run
-// and interleaved with it (raw, episode, raw, episode, ...), raw MuJoCo on the SAME compiled
-// mjModel for the same number of physics steps, replaying the episode's servo targets and the
-// human's mocap poses from its log (one pose per control step) with nothing but mj_step. It
-// reports per task: wall seconds per episode (and of it, the setup: model build, Data,
-// contract, renderers), control and physics steps per second, the cost ratio episode / raw
-// mj_step (the median over episodes), the peak memory one worker adds, and the MuJoCo arena
+// scene's model built, an eval::Episode, eval::run_episode, the metrics) and, in the same run,
+// raw MuJoCo making the same physics steps on the SAME compiled mjModel: one untimed run of the
+// episode records each physics step's state and inputs (eval::RawRecording), then every timed
+// run has raw mj_step make the steps of each control step right after it, timed apart
+// (eval::RawAlongside), and checked bit for bit against the episode's. It reports per task:
+// wall seconds per episode (and of it, the setup: model build, Data, contract, renderers),
+// control and physics steps per second, the cost ratio episode / raw mj_step (the median over
+// episodes), the peak memory one worker adds, and the MuJoCo arena
 // use (peak contacts, constraint rows and stack against the model's capacity). With --threads
 // N > 1 it also runs the whole set of episodes on 1 and on N threads (episodes per second,
 // peak memory per worker). Wall-clock figures are measurements, never results.
 //
 // --physics A,B,... measures physics candidates (a row per task, policy and candidate) without
 // changing the benchmark's physics: each candidate is applied to the episode's compiled model
-// (the episode and its raw replay both run on it), and the rows of the later candidates count
+// (the episode and raw mj_step both run on it), and the rows of the later candidates count
 // the episodes whose outcome (success, status, primary label) or log differs from the first
 // candidate's. Candidates: as-built (the scene as built: euler-servo at 2.5 ms); implicit (the
 // implicit integrator with the arm servos' damping in the servos alone,
@@ -46,7 +47,7 @@ struct EpisodeBenchOptions {
   std::vector<std::string> policies = {"noop", "oracle"};  // policy references
   int seeds = 1;                       // episodes per task: seeds seed .. seed + seeds - 1
   unsigned long long seed = 0;
-  int repeats = 1;                     // runs of each episode (each with its raw run)
+  int repeats = 1;                     // timed runs of each episode (each with raw alongside)
   double horizon = -1;                 // s; -1: each script's own horizon
   int threads = 0;                     // > 1: the scaling rows (0: all cores)
   std::string json;                    // also write the figures as JSON to this file

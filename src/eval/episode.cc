@@ -391,7 +391,9 @@ bool Episode::advance(const policy::Action* action) {
   }
   for (int i = 0; i < substeps_; ++i) {
     driver_->drive(model, data);
-    sim::step(model, data);
+    sim::prepare_step(model, data);
+    for (EpisodeObserver* o : observers_) o->on_physics_step(*this);
+    mj_step(model.m(), data.mj.get());
   }
   sim::forward(model, data);
   ++steps_;

@@ -118,11 +118,15 @@ class Episode;
 // Called by an Episode as it runs (non-owning; the observer outlives the episode's run):
 // on_start after reset() has recorded step 0's identity (the log header, no steps yet),
 // on_step for every StepRecord as it is appended to the log (step 0 included; the events up to
-// it are already in episode.log().events), on_end once the episode is done (status final).
+// it are already in episode.log().events), on_end once the episode is done (status final);
+// on_physics_step right before each physics step's mj_step, with every input of that step in
+// episode.data().mj (sim::prepare_step: ctrl, mocap poses, applied forces), which is what
+// `hribench bench --episodes` records to replay the episode on mj_step alone.
 class EpisodeObserver {
  public:
   virtual ~EpisodeObserver() = default;
   virtual void on_start(const Episode&) {}
+  virtual void on_physics_step(const Episode&) {}
   virtual void on_step(const Episode&, const StepRecord&) {}
   virtual void on_end(const Episode&) {}
 };

@@ -105,7 +105,11 @@ void add_back_servo_damping(const model::Model& model, mjData& d) {
 }  // namespace
 
 void step(const model::Model& model, Data& data) {
-  const mjModel* m = model.m();
+  prepare_step(model, data);
+  mj_step(model.m(), data.mj.get());
+}
+
+void prepare_step(const model::Model& model, Data& data) {
   mjData* d = data.mj.get();
   pose_human(model, data);
   apply_hold_wrenches(model, data);
@@ -113,7 +117,6 @@ void step(const model::Model& model, Data& data) {
   // bias forces are those of the last forward pass (one step old).
   for (const int dof : model.arm_dof_adr) d->qfrc_applied[dof] = d->qfrc_bias[dof];
   if (model.servo_damping_in_joints) add_back_servo_damping(model, *d);
-  mj_step(m, d);
 }
 
 void forward(const model::Model& model, Data& data) {

@@ -89,8 +89,12 @@ void set_human_pose(const model::Model& model, Data& data, const human::Skeleton
 // kinematics); step() and forward() call it. No-op without a human.
 void pose_human(const model::Model& model, Data& data);
 
-// One physics step (model::kTimestep). Allocation-free.
+// One physics step (model::kTimestep): prepare_step, then mj_step. Allocation-free.
 void step(const model::Model& model, Data& data);
+// Everything step() gives mj_step besides the state: the human's mocap poses (pose_human), the
+// hold wrenches (xfrc_applied) and the arm's gravity compensation (qfrc_applied), on top of
+// the servo targets already in ctrl. After it, mjData holds every input of the physics step.
+void prepare_step(const model::Model& model, Data& data);
 
 // Recomputes MuJoCo's derived quantities (positions, contacts, forces) for the current state
 // (mj_forward), after posing the human if its pose changed.

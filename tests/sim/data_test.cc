@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -101,6 +102,33 @@ TEST_F(DataTest, SetHumanPoseMovesTheMocapBodiesAtTheNextStep) {
     EXPECT_LT((p - X[j].translation).norm(), 1e-12);
   }
   ExpectNoWarnings(data.mj.get());
+}
+
+// prepare_step gives mjData every input of the step (the person posed, the arm's gravity
+// compensation from the last forward pass) and leaves the state alone; step() is prepare_step
+// then mj_step, bit for bit.
+TEST_F(DataTest, PrepareStepSetsTheInputsAndStepIsItThenMjStep) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  Data a = make_data(model);
+  Data b = make_data(model);
+  human::SkeletonPose pose = model.human_start;
+  pose.X_WP.translation += Vec3(0, 0.3, 0);
+  for (Data* d : {&a, &b}) set_human_pose(model, *d, pose);
+  const std::vector<mjtNum> qpos(a.mj->qpos, a.mj->qpos + model.m()->nq);
+  prepare_step(model, a);
+  EXPECT_FALSE(a.human_pose_dirty);
+  EXPECT_TRUE(std::equal(qpos.begin(), qpos.end(), a.mj->qpos));
+  // At rest (qvel 0) the servos' damping adds nothing: the compensation is the bias forces.
+  double compensation = 0;
+  for (const int dof : model.arm_dof_adr) {
+    EXPECT_EQ(a.mj->qfrc_applied[dof], a.mj->qfrc_bias[dof]) << "dof " << dof;
+    compensation += std::abs(a.mj->qfrc_applied[dof]);
+  }
+  EXPECT_GT(compensation, 1.0);  // N m: the shoulder and elbow hold the arm up
+  mj_step(model.m(), a.mj.get());
+  step(model, b);
+  for (int i = 0; i < model.m()->nv; ++i) EXPECT_EQ(a.mj->qvel[i], b.mj->qvel[i]) << "dof " << i;
+  ExpectNoWarnings(a.mj.get());
 }
 
 // The hands' shapes ride in mjData::userdata for the renderers (model::kHandShapeValues).
