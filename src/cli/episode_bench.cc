@@ -320,7 +320,6 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
         run_one(spec, ref, runner, options, physics, false, &model, &recorded, &recording);
         // Raw's data, made and used once before the timed runs (its memory is not theirs).
         const sim::MjDataPtr raw(mj_makeData(model->m()));
-        mj_resetData(model->m(), raw.get());
         check_raw(recording.replay(model->m(), raw.get(), 0, recording.steps()));
         for (int r = 0; r < o.repeats; ++r) {
           eval::EpisodeLog log;

@@ -1,10 +1,22 @@
 #include "eval/raw_replay.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstring>
 
 namespace hribench::eval {
+namespace {
+
+// The arrays a physics step starts from, in the record's order (RawRecording::kParts):
+// qpos, qvel, qacc_warmstart, ctrl, mocap_pos, mocap_quat, qfrc_applied, xfrc_applied.
+template <class MjData>
+auto parts_of(MjData* d) {
+  return std::array{d->qpos, d->qvel, d->qacc_warmstart, d->ctrl, d->mocap_pos, d->mocap_quat,
+                    d->qfrc_applied, d->xfrc_applied};
+}
+
+}  // namespace
 
 void RawRecording::on_physics_step(const Episode& episode) {
   const mjModel& m = *episode.model().m();
@@ -16,8 +28,8 @@ void RawRecording::on_physics_step(const Episode& episode) {
     stride_ = 1;
     for (const size_t n : sizes_) stride_ += n;
   }
-  const mjtNum* const from[kParts] = {d->qpos, d->qvel, d->qacc_warmstart, d->ctrl, d->mocap_pos,
-                                      d->mocap_quat, d->qfrc_applied, d->xfrc_applied};
+  const auto from = parts_of(d);
+  static_assert(from.size() == kParts);
   record_.push_back(d->time);
   for (size_t i = 0; i < kParts; ++i) record_.insert(record_.end(), from[i], from[i] + sizes_[i]);
   ++steps_;
@@ -29,8 +41,7 @@ void RawRecording::on_end(const Episode& episode) {
 }
 
 long RawRecording::replay(const mjModel* m, mjData* raw, long from, long to) const {
-  mjtNum* const into[kParts] = {raw->qpos, raw->qvel, raw->qacc_warmstart, raw->ctrl, raw->mocap_pos,
-                                raw->mocap_quat, raw->qfrc_applied, raw->xfrc_applied};
+  const auto into = parts_of(raw);
   const size_t nv = sizes_[1];
   long differs = -1;
   for (long k = std::max(from, 0L); k < std::min(to, steps_); ++k) {
@@ -48,8 +59,6 @@ long RawRecording::replay(const mjModel* m, mjData* raw, long from, long to) con
   }
   return differs;
 }
-
-void RawAlongside::on_start(const Episode& episode) { mj_resetData(episode.model().m(), raw_); }
 
 void RawAlongside::catch_up(const Episode& episode) {
   if (replayed_ == steps_) return;

@@ -51,9 +51,9 @@ class RawRecording : public EpisodeObserver {
 
 class RawAlongside : public EpisodeObserver {
  public:
-  // `raw` is made for the episode's model (or one compiled the same) and outlives the run.
+  // `raw` is made for the episode's model (or one compiled the same) and outlives the run;
+  // nothing of it is read before a step's recorded state is copied in, so it needs no reset.
   RawAlongside(const RawRecording& recording, mjData* raw) : recording_(recording), raw_(raw) {}
-  void on_start(const Episode& episode) override;
   void on_physics_step(const Episode&) override { ++steps_; }
   void on_step(const Episode& episode, const StepRecord&) override { catch_up(episode); }
   void on_end(const Episode& episode) override { catch_up(episode); }
