@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/bisection.h"
 #include "core/errors.h"
 
 namespace hribench::human {
@@ -146,9 +147,8 @@ ArmSolution solve_arm(const Skeleton& skeleton, SkeletonPose& pose, Side side,
   const Joint sh = shoulder(side);
   const Joint el = elbow(side);
   const Joint wr = wrist(side);
-  const auto X = forward_kinematics(skeleton, pose);
-  const core::Pose& X_Wc = X[static_cast<size_t>(index(*parent(sh)))];
-  const Quat& R_torso = X[static_cast<size_t>(index(Joint::kSpine3))].rotation;
+  const core::Pose X_Wc = joint_pose(skeleton, pose, *parent(sh));
+  const Quat R_torso = joint_pose(skeleton, pose, Joint::kSpine3).rotation;
   const Vec3 S = X_Wc * skeleton.offset[static_cast<size_t>(index(sh))];
   const double L1 = skeleton.bone_length(el);
   const double L2 = skeleton.bone_length(wr);
@@ -263,15 +263,11 @@ double lean_for_reach(const Skeleton& skeleton, const SkeletonPose& pose, Side s
     lean_spine(skeleton, p, dir, angle, crouch);
     return (wrist - joint_pose(skeleton, p, shoulder(side)).translation).norm() - reach;
   };
-  if (excess(0) <= 0) return 0;
-  if (excess(max_lean) > 0) return max_lean;
-  double lo = 0;
-  double hi = max_lean;
-  for (int i = 0; i < 40; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (excess(mid) > 0 ? lo : hi) = mid;
-  }
-  return hi;
+  const double at_zero = excess(0);
+  if (at_zero <= 0) return 0;
+  const double at_max = excess(max_lean);
+  if (at_max > 0) return max_lean;
+  return core::bisect_bracketed(0, at_zero, max_lean, at_max, 40, core::Crossing::kFalling, excess).hi;
 }
 
 double twist_angle(const Quat& q, const Vec3& axis) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/bisection.h"
 #include "core/errors.h"
 #include "core/rng.h"
 #include "human/arm_ik.h"
@@ -240,9 +241,8 @@ Vec3 head_centre(const Skeleton& k, const SkeletonPose& pose) {
 // stand frame) for a hand reaching to `wrist` (world).
 double head_limited_lean(const Skeleton& k, const SkeletonPose& pose, const Vec3& dir, double crouch,
                          const Vec3& wrist) {
-  const auto X = forward_kinematics(k, pose);
-  const Vec3 feet = 0.5 * (X[static_cast<size_t>(index(Joint::kLeftAnkle))].translation +
-                           X[static_cast<size_t>(index(Joint::kRightAnkle))].translation);
+  const Vec3 feet = 0.5 * (joint_pose(k, pose, Joint::kLeftAnkle).translation +
+                           joint_pose(k, pose, Joint::kRightAnkle).translation);
   const Vec3 fwd = stand_frame(k, pose).rotation * Vec3::UnitX();
   const double bound = std::max(kHeadReach, (wrist - feet).dot(fwd) - kHeadBehindHand);
   const auto over = [&](double angle) {
@@ -251,23 +251,18 @@ double head_limited_lean(const Skeleton& k, const SkeletonPose& pose, const Vec3
     set_neck(p, 0, head_extension(angle, dir));
     return (head_centre(k, p) - feet).dot(fwd) - bound;
   };
-  if (over(kMaxLean) <= 0) return kMaxLean;
-  if (over(0) > 0) return 0;
-  double lo = 0;
-  double hi = kMaxLean;
-  for (int i = 0; i < 30; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (over(mid) > 0 ? hi : lo) = mid;
-  }
-  return lo;
+  const double at_max = over(kMaxLean);
+  if (at_max <= 0) return kMaxLean;
+  const double at_zero = over(0);
+  if (at_zero > 0) return 0;
+  return core::bisect_bracketed(0, at_zero, kMaxLean, at_max, 30, core::Crossing::kRising, over).lo;
 }
 
 // How much a lean toward a wrist target (world) bends the knees (lean_spine's crouch): 0 for a
 // target less than a third of an arm's length below the shoulder (a reach at chest height is a
 // lean), 1 an arm's length below it or lower (a reach down to the table).
 double crouch_for(const Skeleton& k, const SkeletonPose& pose, Side side, const Vec3& wrist) {
-  const auto X = forward_kinematics(k, pose);
-  const double below = X[static_cast<size_t>(index(shoulder(side)))].translation.z() - wrist.z();
+  const double below = joint_pose(k, pose, shoulder(side)).translation.z() - wrist.z();
   return std::clamp(2 * below / arm_length(k, side) - 1, 0.0, 1.0);
 }
 
@@ -289,13 +284,14 @@ double lean_need(const Skeleton& k, const SkeletonPose& pose, Side side, const V
 std::array<Vec3, 2> hanging_shift(const Skeleton& k, SkeletonPose& pose, const Vec3& dir, double lean,
                                   double crouch, const std::array<double, 2>& reaching) {
   std::array<Vec3, 2> out{Vec3::Zero(), Vec3::Zero()};
-  const auto before = forward_kinematics(k, pose);
+  std::array<Vec3, 2> before;
+  for (size_t h = 0; h < 2; ++h) {
+    if (reaching[h] != 1) before[h] = joint_pose(k, pose, shoulder(side_of(h))).translation;
+  }
   lean_spine(k, pose, dir, lean, crouch);
-  const auto after = forward_kinematics(k, pose);
   for (size_t h = 0; h < 2; ++h) {
     if (reaching[h] == 1) continue;
-    const auto j = static_cast<size_t>(index(shoulder(side_of(h))));
-    out[h] = after[j].translation - before[j].translation;
+    out[h] = joint_pose(k, pose, shoulder(side_of(h))).translation - before[h];
     out[h].z() = std::max(out[h].z(), 0.0);
     out[h] *= 1 - reaching[h];
   }
@@ -621,9 +617,8 @@ SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t,
       lean > 0 && lean_dir.norm() > 1e-9 ? head_extension(lean, lean_dir.normalized()) : 0.0;
   set_neck(pose, 0, extension);
   if (key.gaze_weight > 0) {
-    const auto X = forward_kinematics(k, pose);
-    const core::Pose& X_Ws3 = X[static_cast<size_t>(index(Joint::kSpine3))];
-    const Vec3 from = X[static_cast<size_t>(index(Joint::kNeck))].translation;
+    const core::Pose X_Ws3 = joint_pose(k, pose, Joint::kSpine3);
+    const Vec3 from = joint_pose(k, pose, Joint::kNeck).translation;
     const Vec3 d = X_Ws3.rotation.conjugate() * (key.X_WF * key.gaze - from);
     const double yaw = std::clamp(std::atan2(d.y(), d.x()), -50 * kDeg, 50 * kDeg);
     const double pitch = std::clamp(std::atan2(-d.z(), std::hypot(d.x(), d.y())), -30 * kDeg, 45 * kDeg);

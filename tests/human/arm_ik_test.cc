@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "core/rng.h"
+
 namespace hribench::human {
 namespace {
 
@@ -209,6 +211,54 @@ TEST(ArmIkTest, KneeBendIsTheBisectionToTheBit) {
   }
   EXPECT_GT(bent, 5000);
   EXPECT_GT(at_flexion, 100);
+}
+
+// lean_for_reach's definition: the 40-step bisection of the lean, each midpoint judged by
+// leaning the pose (lean_for_reach skips the midpoints its bracket places for certain).
+double lean_for_reach_by_bisection(const Skeleton& k, const SkeletonPose& pose, Side side, const Vec3& wrist,
+                                   double max_lean, const Vec3& dir, double crouch) {
+  const double reach = 0.93 * arm_length(k, side);
+  const auto excess = [&](double angle) {
+    SkeletonPose p = pose;
+    lean_spine(k, p, dir, angle, crouch);
+    return (wrist - joint_pose(k, p, shoulder(side)).translation).norm() - reach;
+  };
+  if (excess(0) <= 0) return 0;
+  if (excess(max_lean) > 0) return max_lean;
+  double lo = 0;
+  double hi = max_lean;
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (excess(mid) > 0 ? lo : hi) = mid;
+  }
+  return hi;
+}
+
+TEST(ArmIkTest, LeanForReachIsTheBisectionToTheBit) {
+  core::Rng rng(3);
+  int leaned = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Skeleton k = Skeleton::FromHeight(rng.uniform(1.5, 1.95));
+    const SkeletonPose pose = SkeletonPose::Standing(k, rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2),
+                                                     rng.uniform(-3, 3));
+    const Side side = i % 2 == 0 ? Side::kLeft : Side::kRight;
+    const Vec3 S = joint_pose(k, pose, shoulder(side)).translation;
+    const double L = arm_length(k, side);
+    // Targets in front of the person, from the chest's height to the floor's, 0.7 to 1.6 arm's
+    // lengths ahead.
+    const Vec3 ahead = pose.X_WP.rotation * Vec3(1, 0, 0);
+    const Vec3 aside = pose.X_WP.rotation * Vec3(0, 1, 0);
+    const Vec3 wrist = S + rng.uniform(0.7, 1.6) * L * ahead + rng.uniform(-0.6, 0.6) * L * aside +
+                       Vec3(0, 0, -rng.uniform(0, 1.4) * L);
+    Vec3 dir = pose.X_WP.rotation.conjugate() * (wrist - pose.X_WP.translation);
+    dir.z() = 0;
+    const double max_lean = rng.uniform(0.2, 70 * kDeg);
+    const double crouch = i % 5 == 0 ? 0 : rng.uniform(0, 1);
+    const double fast = lean_for_reach(k, pose, side, wrist, 0.93, max_lean, dir, crouch);
+    ASSERT_EQ(fast, lean_for_reach_by_bisection(k, pose, side, wrist, max_lean, dir, crouch)) << "case " << i;
+    leaned += fast > 0 && fast < max_lean;
+  }
+  EXPECT_GT(leaned, 600);  // solved by the bisection, not at an end
 }
 
 TEST(ArmIkTest, ALeanBendsTheKneesWithTheFeetFlatAndTheHipsAboveThem) {
