@@ -311,7 +311,8 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
   if (active_ < 0 || !model.has_human) return;
   ActMotion& body = motions_[static_cast<size_t>(active_)];
   if (!body.playing()) return;
-  human::SkeletonPose pose = body.pose_at(data.time() - body.start);
+  const human::MotionPlan::Frame body_frame = body.frame_at(data.time() - body.start);
+  human::SkeletonPose pose = body_frame.pose;
   // A walk that an act started mid-way keeps going: the root and the legs follow the latest
   // started act that moves the root while its plan runs (the upper body rides along).
   int walker = -1;
@@ -325,7 +326,7 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
   }
   if (walker >= 0 && walker != active_) {
     ActMotion& m = motions_[static_cast<size_t>(walker)];
-    const human::SkeletonPose walk = m.pose_at(data.time() - m.start);
+    const human::SkeletonPose walk = m.frame_at(data.time() - m.start).pose;
     pose.X_WP = walk.X_WP;
     for (const human::Joint j : kLegs) pose.local[static_cast<size_t>(human::index(j))] = walk.local[static_cast<size_t>(human::index(j))];
   }
@@ -343,18 +344,20 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
         }
       }
     }
+    if (owner[h] == active_) {
+      labels[h] = body_frame.label;
+      continue;
+    }
     ActMotion& m = motions_[static_cast<size_t>(owner[h])];
-    const double t = data.time() - m.start;
-    labels[h] = m.label_at(t);
-    if (owner[h] == active_) continue;
+    const human::MotionPlan::Frame arm = m.frame_at(data.time() - m.start);
+    labels[h] = arm.label;
     // The arm reaches where the owning plan puts the wrist (world pose), from this torso.
-    const human::SkeletonPose arm = m.pose_at(t);
-    pose.hands[h] = arm.hands[h];
-    const core::Pose X_WW = human::forward_kinematics(model.skeleton, arm)[static_cast<size_t>(human::index(kWrist[h]))];
+    pose.hands[h] = arm.pose.hands[h];
+    const core::Pose X_WW = human::joint_pose(model.skeleton, arm.pose, kWrist[h]);
     human::ArmTarget target;
     target.wrist = X_WW.translation;
     target.hand = X_WW.rotation;
-    target.swivel = m.swivel_at(t, h);
+    target.swivel = arm.key.hands[h].swivel;
     human::solve_arm(model.skeleton, pose, kSides[h], target);
   }
   sim::set_human_pose(model, data, pose);

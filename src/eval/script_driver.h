@@ -118,10 +118,10 @@ class ScriptDriver : public ScenarioDriver {
     bool moves_root = false;      // the plan walks or moves the stand frame
 
     bool playing() const { return plan || clip; }
-    // At act time t: the pose, the labels (a clip's: no holds), a hand's swivel, the end.
-    human::SkeletonPose pose_at(double t) { return plan ? plan->pose_at(t, signals, &knots) : clip->pose_at(t); }
-    human::FrameLabel label_at(double t) const { return plan ? plan->label_at(t, signals) : human::FrameLabel{}; }
-    double swivel_at(double t, size_t h) const { return plan ? plan->key_at(t, signals).hands[h].swivel : 0.0; }
+    // At act time t: the pose, the labels and the key (a clip's: no holds, no swivel); the end.
+    human::MotionPlan::Frame frame_at(double t) {
+      return plan ? plan->frame_at(t, signals, &knots) : human::MotionPlan::Frame{clip->pose_at(t), {}, {}};
+    }
     double end_time() const { return plan ? plan->end_time(signals) : clip->duration(); }
   };
   struct EventInfo {

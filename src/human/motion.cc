@@ -550,8 +550,8 @@ const MotionPlan::Knots::Need& MotionPlan::knot(int64_t knot, const std::vector<
   return *(e.needs[h] = knot_need(knot, times, h));
 }
 
-SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t,
-                                    const std::vector<Resolved>& times, Knots& knots) const {
+MotionPlan::Frame MotionPlan::build_frame(size_t segment, double tau, double t,
+                                          const std::vector<Resolved>& times, Knots& knots) const {
   const Skeleton& k = skeleton_;
   Upright u = upright(segment, tau, t);
   const BodyKey& key = u.key;
@@ -627,7 +627,15 @@ SkeletonPose MotionPlan::build_pose(size_t segment, double tau, double t,
     pose.local[static_cast<size_t>(index(Joint::kHead))] = core::axis_angle(
         Vec3::UnitY(), std::clamp(key.gaze_weight * (pitch + extension), -55 * kDeg, 55 * kDeg));
   }
-  return pose;
+  return {std::move(pose), label_of(segment, key), std::move(u.key)};
+}
+
+FrameLabel MotionPlan::label_of(size_t segment, const BodyKey& key) const {
+  FrameLabel label;
+  if (!segments_.empty()) label.phase = segments_[segment].phase;
+  label.active_hand = active_hand_;
+  for (size_t h = 0; h < 2; ++h) label.hands[h] = {key.hands[h].grip, key.hands[h].holding};
+  return label;
 }
 
 BodyKey MotionPlan::key_at(double t, const Signals& signals) const {
@@ -637,13 +645,17 @@ BodyKey MotionPlan::key_at(double t, const Signals& signals) const {
   return interpolate(i, tau);
 }
 
-SkeletonPose MotionPlan::pose_at(double t, const Signals& signals, Knots* knots) const {
+MotionPlan::Frame MotionPlan::frame_at(double t, const Signals& signals, Knots* knots) const {
   size_t i = 0;
   double tau = 1;
   const auto times = resolve(signals, false);
   locate(t, times, i, tau);
   Knots fresh;
-  return build_pose(i, tau, t, times, knots != nullptr ? *knots : fresh);
+  return build_frame(i, tau, t, times, knots != nullptr ? *knots : fresh);
+}
+
+SkeletonPose MotionPlan::pose_at(double t, const Signals& signals, Knots* knots) const {
+  return frame_at(t, signals, knots).pose;
 }
 
 FrameLabel MotionPlan::label_at(double t, const Signals& signals) const {
@@ -651,12 +663,7 @@ FrameLabel MotionPlan::label_at(double t, const Signals& signals) const {
   double tau = 1;
   const auto times = resolve(signals, false);
   locate(t, times, i, tau);
-  const BodyKey key = interpolate(i, tau);
-  FrameLabel label;
-  if (!segments_.empty()) label.phase = segments_[i].phase;
-  label.active_hand = active_hand_;
-  for (size_t h = 0; h < 2; ++h) label.hands[h] = {key.hands[h].grip, key.hands[h].holding};
-  return label;
+  return label_of(i, interpolate(i, tau));
 }
 
 LabelledClip MotionPlan::to_clip(double fps, const Signals& signals) const {
@@ -679,13 +686,9 @@ LabelledClip MotionPlan::to_clip(double fps, const Signals& signals) const {
     size_t seg = 0;
     double tau = 1;
     locate(t, times, seg, tau);
-    out.clip.frames.push_back(build_pose(seg, tau, t, times, knots));
-    const BodyKey key = interpolate(seg, tau);
-    FrameLabel label;
-    if (!segments_.empty()) label.phase = segments_[seg].phase;
-    label.active_hand = active_hand_;
-    for (size_t h = 0; h < 2; ++h) label.hands[h] = {key.hands[h].grip, key.hands[h].holding};
-    out.labels.push_back(std::move(label));
+    Frame frame = build_frame(seg, tau, t, times, knots);
+    out.clip.frames.push_back(std::move(frame.pose));
+    out.labels.push_back(std::move(frame.label));
   }
   return out;
 }

@@ -180,6 +180,14 @@ class MotionPlan {
   FrameLabel label_at(double t, const Signals& signals = {}) const;
   // The body key at time t (targets, grips), before IK.
   BodyKey key_at(double t, const Signals& signals = {}) const;
+  // All three at time t: pose_at's, label_at's and key_at's, the plan interpolated once (a
+  // caller that poses the person at every physics step needs more than one of them).
+  struct Frame {
+    SkeletonPose pose;
+    FrameLabel label;
+    BodyKey key;
+  };
+  Frame frame_at(double t, const Signals& signals = {}, Knots* knots = nullptr) const;
 
   // Samples the plan at `fps` from 0 to its end; missing signals count as arriving at the
   // minimum end of their phase.
@@ -241,8 +249,9 @@ class MotionPlan {
   // solved, or kept in `knots`.
   Knots::Need knot_need(int64_t knot, const std::vector<Resolved>& times, size_t h) const;
   const Knots::Need& knot(int64_t knot, const std::vector<Resolved>& times, size_t h, Knots& knots) const;
-  SkeletonPose build_pose(size_t segment, double tau, double t, const std::vector<Resolved>& times,
-                          Knots& knots) const;
+  Frame build_frame(size_t segment, double tau, double t, const std::vector<Resolved>& times,
+                    Knots& knots) const;
+  FrameLabel label_of(size_t segment, const BodyKey& key) const;
 
   Skeleton skeleton_;
   BodyKey start_;

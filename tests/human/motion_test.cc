@@ -777,6 +777,16 @@ bool same_pose(const SkeletonPose& a, const SkeletonPose& b) {
   return true;
 }
 
+// A plan's first waiting phase and its nominal end (the phase empty where none waits).
+std::pair<std::string, double> first_waiting_phase(const MotionPlan& plan) {
+  double end = 0;
+  for (const Segment& seg : plan.segments()) {
+    end += seg.duration;
+    if (seg.waits) return {seg.phase, end};
+  }
+  return {"", end};
+}
+
 TEST(MotionTest, TheLeansKeptAtTheKnotsOnlySaveWork) {
   // A reaching hand's lean is solved at the knots of plan time (every kLeanPeriod) and
   // interpolated between them; an episode keeps the knots it solved (MotionPlan::Knots). Posed
@@ -790,15 +800,7 @@ TEST(MotionTest, TheLeansKeptAtTheKnotsOnlySaveWork) {
   // Posed until 0.2 s after the waiting phase's (hold's) nominal end with no signal (the person
   // holds the lid open), then with the signal dated at that nominal end: closing the lid is
   // under way already, and the knots kept for the holding person no longer hold.
-  std::string waiting;
-  double nominal_end = 0;
-  for (const Segment& seg : plan.segments()) {
-    nominal_end += seg.duration;
-    if (seg.waits) {
-      waiting = seg.phase;
-      break;
-    }
-  }
+  const auto [waiting, nominal_end] = first_waiting_phase(plan);
   const double signal_at = nominal_end + 0.2;
   ASSERT_FALSE(waiting.empty());
   MotionPlan::Knots knots;
@@ -812,6 +814,42 @@ TEST(MotionTest, TheLeansKeptAtTheKnotsOnlySaveWork) {
     if (kept.local[static_cast<size_t>(index(Joint::kSpine1))].angularDistance(upright_spine) > 0.05) ++leaning;
   }
   EXPECT_GT(leaning, 100);  // the trunk leaned in this plan
+}
+
+TEST(MotionTest, AFrameIsThePoseTheLabelsAndTheKeyAtOnce) {
+  // frame_at gives, from one interpolation, what pose_at, label_at and key_at give apart, to the
+  // bit: for every primitive, through a waiting phase and after its signal.
+  const Skeleton k = Skeleton::FromHeight(1.70);
+  int holding = 0;
+  int waited = 0;
+  for (const PrimitiveInfo& prim : primitive_catalog()) {
+    const MotionPlan plan = plan_motion(k, standing(k), example(std::string(prim.name)));
+    Signals signals;
+    const auto [waiting, nominal_end] = first_waiting_phase(plan);
+    MotionPlan::Knots knots;
+    for (double t = 0; t < plan.nominal_duration() + 1.5; t += 0.0125) {
+      if (!waiting.empty() && signals.empty() && t >= nominal_end + 0.5) {
+        signals[waiting] = nominal_end + 0.5;
+        ++waited;
+      }
+      const MotionPlan::Frame frame = plan.frame_at(t, signals, &knots);
+      ASSERT_TRUE(same_pose(frame.pose, plan.pose_at(t, signals))) << prim.name << " t = " << t;
+      const FrameLabel label = plan.label_at(t, signals);
+      ASSERT_EQ(frame.label.phase, label.phase) << prim.name << " t = " << t;
+      ASSERT_EQ(frame.label.active_hand, label.active_hand) << prim.name;
+      const BodyKey key = plan.key_at(t, signals);
+      ASSERT_TRUE(frame.key.X_WF.translation == key.X_WF.translation) << prim.name << " t = " << t;
+      for (size_t h = 0; h < 2; ++h) {
+        ASSERT_EQ(frame.label.hands[h].grip, label.hands[h].grip) << prim.name << " t = " << t;
+        ASSERT_EQ(frame.label.hands[h].holding, label.hands[h].holding) << prim.name << " t = " << t;
+        ASSERT_EQ(frame.key.hands[h].swivel, key.hands[h].swivel) << prim.name << " t = " << t;
+        ASSERT_TRUE(frame.key.hands[h].palm == key.hands[h].palm) << prim.name << " t = " << t;
+        holding += !label.hands[h].holding.empty();
+      }
+    }
+  }
+  EXPECT_GT(holding, 100);  // labels that say something
+  EXPECT_GT(waited, 2);     // plans that waited for a signal and got it
 }
 
 TEST(MotionTest, AReachingHandsLeanIsInterpolatedBetweenKnots) {
