@@ -118,6 +118,21 @@ void apply_physics(const std::string& name, model::Model& model) {
       m->opt.impratio = number;
     } else if (key == "noslip" && numeric && number == std::floor(number) && number <= 1000) {
       m->opt.noslip_iterations = static_cast<int>(number);
+    } else if ((key == "grasp-timeconst" || key == "grasp-dmax") && numeric) {
+      // The contacts of a grasp: every geom of the fingers (pads included) and of the objects.
+      // MuJoCo mixes two geoms' solref and solimp (solmix), so a pad against an object gets
+      // these values exactly.
+      for (int g = 0; g < m->ngeom; ++g) {
+        const model::GeomOwner owner = model.geom_tags[g].owner;
+        if (owner != model::GeomOwner::kRobotFinger && owner != model::GeomOwner::kObject) continue;
+        if (key == "grasp-timeconst") {
+          m->geom_solref[mjNREF * g] = number;
+        } else if (number < 1) {
+          m->geom_solimp[mjNIMP * g + 1] = number;
+        } else {
+          throw core::InputError("--physics", "grasp-dmax below 1", "'" + part + "'");
+        }
+      }
     } else if (key == "finger-armature" && numeric) {
       for (const int dof : model.finger_dof_adr) m->dof_armature[dof] = number;
       // The constants MuJoCo derives from the inertia at compile time (dof_invweight0, which

@@ -28,7 +28,10 @@
 // iterations); tolerance=X (solver tolerance); impratio=X (the ratio of frictional to normal
 // constraint impedance); noslip=N (iterations of MuJoCo's noslip solver, none as built);
 // finger-armature=KG (the gripper fingers' armature, as built the robot description's
-// finger_armature; MuJoCo's constants derived from the inertia are recomputed); joined by '+'
+// finger_armature; MuJoCo's constants derived from the inertia are recomputed);
+// grasp-timeconst=S and grasp-dmax=X (the contact time constant, solref[0], and the largest
+// impedance, solimp[1], of every finger and object geom: the contacts that hold a grasp);
+// joined by '+'
 // they combine (euler+iterations=20).
 
 #include <string>
@@ -40,7 +43,7 @@ namespace hribench::cli {
 // The --physics candidates (above), as the help and the error messages name them.
 inline constexpr std::string_view kPhysicsCandidates =
     "as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, impratio=X, "
-    "noslip=N, finger-armature=KG";
+    "noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X";
 
 struct EpisodeBenchOptions {
   std::string tasks = "all";           // task ids or names (gen::resolve_task_scripts)

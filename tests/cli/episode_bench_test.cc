@@ -117,20 +117,23 @@ TEST(EpisodeBenchTest, EulerKeepsTheOracleOnlyWithTheServoDampingAddedBack) {
 TEST(EpisodeBenchTest, GraspCandidatesChangeTheEpisodeAndTheArmatureAsBuiltDoesNot) {
   // point_pick's oracle closes the fingers on the cube before 8 s. The fingers' armature as
   // built (with MuJoCo's inertia-derived constants recomputed) replays the episode to the bit;
-  // three times the armature, the noslip solver or another impedance ratio changes it.
+  // three times the armature, the noslip solver, another impedance ratio or another time
+  // constant of the grasp's contacts changes it.
   const double armature = model::robot_by_name("panda").gripper.finger_armature;
   const nlohmann::json j = run_episode_bench_json(fmt::format(
       "--tasks I1 --policies oracle --horizon 8 --threads 1 "
-      "--physics as-built,finger-armature={},finger-armature={},noslip=3,impratio=30",
+      "--physics as-built,finger-armature={},finger-armature={},noslip=3,impratio=30,grasp-timeconst=0.02",
       armature, 3 * armature));
   ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
-  ASSERT_EQ(j["tasks"].size(), 5u);
+  ASSERT_EQ(j["tasks"].size(), 6u);
   EXPECT_EQ(j["tasks"][1]["differ_from_first_physics"], 0) << j["tasks"][1].dump();
   EXPECT_EQ(j["tasks"][2]["differ_from_first_physics"], 1) << j["tasks"][2].dump();
   EXPECT_EQ(j["tasks"][3]["physics"], "noslip=3");
   EXPECT_EQ(j["tasks"][3]["differ_from_first_physics"], 1) << j["tasks"][3].dump();
   EXPECT_EQ(j["tasks"][4]["physics"], "impratio=30");
   EXPECT_EQ(j["tasks"][4]["differ_from_first_physics"], 1) << j["tasks"][4].dump();
+  EXPECT_EQ(j["tasks"][5]["physics"], "grasp-timeconst=0.02");
+  EXPECT_EQ(j["tasks"][5]["differ_from_first_physics"], 1) << j["tasks"][5].dump();
 }
 
 TEST(EpisodeBenchTest, RowsGiveThePeakContactForceOnThePerson) {
@@ -152,10 +155,12 @@ TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
         {"bench --episodes --policies nope", "policy: expected one of blind, gr00t, noop, openpi, oracle, random, reactive, got 'nope'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics rk4",
          "--physics: expected as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, "
-         "impratio=X, noslip=N, finger-armature=KG, joined by '+', got 'rk4'"},
+         "impratio=X, noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, joined by '+', got 'rk4'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics noslip=2.5",
          "--physics: expected as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, "
-         "impratio=X, noslip=N, finger-armature=KG, joined by '+', got 'noslip=2.5'"},
+         "impratio=X, noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, joined by '+', got 'noslip=2.5'"},
+        {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics grasp-dmax=1.5",
+         "--physics: expected grasp-dmax below 1, got 'grasp-dmax=1.5'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics timestep=0.003",
          "control_dt: expected a whole number of 3 ms physics steps, got 0.05 s"},
         {"bench --episodes --tasks I1 --horizon 0.1 --policies 'noop?cameras=wrist:64'",
