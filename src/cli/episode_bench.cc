@@ -121,7 +121,7 @@ void apply_physics(const std::string& name, model::Model& model) {
     } else if ((key == "grasp-timeconst" || key == "grasp-dmax") && numeric) {
       // The contacts of a grasp: every geom of the fingers (pads included) and of the objects.
       // MuJoCo mixes two geoms' solref and solimp (solmix), so a pad against an object gets
-      // these values exactly.
+      // these values (up to rounding).
       for (int g = 0; g < m->ngeom; ++g) {
         const model::GeomOwner owner = model.geom_tags[g].owner;
         if (owner != model::GeomOwner::kRobotFinger && owner != model::GeomOwner::kObject) continue;
