@@ -122,15 +122,16 @@ void apply_physics(const std::string& name, model::Model& model) {
       // The contacts of a grasp: every geom of the fingers (pads included) and of the objects.
       // MuJoCo mixes two geoms' solref and solimp (solmix), so a pad against an object gets
       // these values (up to rounding).
+      if (key == "grasp-dmax" && number >= 1) {
+        throw core::InputError("--physics", "grasp-dmax below 1", "'" + part + "'");
+      }
       for (int g = 0; g < m->ngeom; ++g) {
         const model::GeomOwner owner = model.geom_tags[g].owner;
         if (owner != model::GeomOwner::kRobotFinger && owner != model::GeomOwner::kObject) continue;
         if (key == "grasp-timeconst") {
           m->geom_solref[mjNREF * g] = number;
-        } else if (number < 1) {
-          m->geom_solimp[mjNIMP * g + 1] = number;
         } else {
-          throw core::InputError("--physics", "grasp-dmax below 1", "'" + part + "'");
+          m->geom_solimp[mjNIMP * g + 1] = number;
         }
       }
     } else if (key == "finger-armature" && numeric) {
