@@ -117,15 +117,16 @@ TEST(EpisodeBenchTest, EulerKeepsTheOracleOnlyWithTheServoDampingAddedBack) {
 TEST(EpisodeBenchTest, GraspCandidatesChangeTheEpisodeAndTheArmatureAsBuiltDoesNot) {
   // point_pick's oracle closes the fingers on the cube before 8 s. The fingers' armature as
   // built (with MuJoCo's inertia-derived constants recomputed) replays the episode to the bit;
-  // three times the armature, the noslip solver, another impedance ratio or another time
-  // constant of the grasp's contacts changes it.
+  // three times the armature, the noslip solver, another impedance ratio, or another time
+  // constant or largest impedance of the grasp's contacts changes it.
   const double armature = model::robot_by_name("panda").gripper.finger_armature;
   const nlohmann::json j = run_episode_bench_json(fmt::format(
       "--tasks I1 --policies oracle --horizon 8 --threads 1 "
-      "--physics as-built,finger-armature={},finger-armature={},noslip=3,impratio=30,grasp-timeconst=0.02",
+      "--physics as-built,finger-armature={},finger-armature={},noslip=3,impratio=30,grasp-timeconst=0.02,"
+      "grasp-dmax=0.999",
       armature, 3 * armature));
   ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
-  ASSERT_EQ(j["tasks"].size(), 6u);
+  ASSERT_EQ(j["tasks"].size(), 7u);
   EXPECT_EQ(j["tasks"][1]["differ_from_first_physics"], 0) << j["tasks"][1].dump();
   EXPECT_EQ(j["tasks"][2]["differ_from_first_physics"], 1) << j["tasks"][2].dump();
   EXPECT_EQ(j["tasks"][3]["physics"], "noslip=3");
@@ -134,6 +135,8 @@ TEST(EpisodeBenchTest, GraspCandidatesChangeTheEpisodeAndTheArmatureAsBuiltDoesN
   EXPECT_EQ(j["tasks"][4]["differ_from_first_physics"], 1) << j["tasks"][4].dump();
   EXPECT_EQ(j["tasks"][5]["physics"], "grasp-timeconst=0.02");
   EXPECT_EQ(j["tasks"][5]["differ_from_first_physics"], 1) << j["tasks"][5].dump();
+  EXPECT_EQ(j["tasks"][6]["physics"], "grasp-dmax=0.999");
+  EXPECT_EQ(j["tasks"][6]["differ_from_first_physics"], 1) << j["tasks"][6].dump();
 }
 
 TEST(EpisodeBenchTest, RowsGiveThePeakContactForceOnThePerson) {
