@@ -395,7 +395,11 @@ bool Episode::advance(const policy::Action* action) {
     for (EpisodeObserver* o : observers_) o->on_physics_step(*this);
     mj_step(model.m(), data.mj.get());
   }
-  sim::forward(model, data);
+  if (options_.forward_after_control_step) {
+    sim::forward(model, data);
+  } else {
+    sim::observe_state(model, data);
+  }
   ++steps_;
   record(action);
   if (sim::warning_count(data) > 0) {

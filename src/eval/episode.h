@@ -103,6 +103,11 @@ struct RunOptions {
   // GL back end for the cameras a policy asks for (one renderer per requested camera, made for
   // this episode's model). kNone refuses camera-asking policies.
   render::Backend render_backend = render::Backend::kOsmesa;
+  // After each control step the new state is observed with MuJoCo's full forward pass
+  // (sim::forward: the warm start and bias forces of the next physics step come from it); false:
+  // with its kinematics alone (sim::observe_state), which leaves them to the physics steps. A
+  // physics candidate of `hribench bench --episodes` (docs/performance.md); true as released.
+  bool forward_after_control_step = true;
 };
 
 // What one step of an Episode returns.

@@ -124,6 +124,16 @@ void forward(const model::Model& model, Data& data) {
   mj_forward(model.m(), data.mj.get());
 }
 
+void observe_state(const model::Model& model, Data& data) {
+  pose_human(model, data);
+  const mjModel* m = model.m();
+  mjData* d = data.mj.get();
+  mj_kinematics(m, d);
+  mj_comPos(m, d);
+  mj_camlight(m, d);
+  mj_comVel(m, d);
+}
+
 int warning_count(const Data& data) {
   int n = 0;
   for (int i = 0; i < mjNWARNING; ++i) n += data.mj->warning[i].number;

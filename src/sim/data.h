@@ -10,7 +10,8 @@
 //
 // Freshness: after step(), qpos/qvel/time are the new state, while MuJoCo's derived
 // quantities (xpos, site_xpos, contacts, ...) are those of the previous state (mj_step
-// computes them before integrating). Call forward() when you need them for the current state.
+// computes them before integrating). Call forward() when you need them for the current state,
+// observe_state() for its frames and velocities alone.
 
 #include <array>
 #include <memory>
@@ -99,6 +100,14 @@ void prepare_step(const model::Model& model, Data& data);
 // Recomputes MuJoCo's derived quantities (positions, contacts, forces) for the current state
 // (mj_forward), after posing the human if its pose changed.
 void forward(const model::Model& model, Data& data);
+
+// The frames of the current state, for observing it, without forward()'s dynamics: after posing
+// the human, MuJoCo's kinematics (body, geom, site, camera and light poses; centres of mass)
+// and the bodies' velocities (mj_kinematics, mj_comPos, mj_camlight, mj_comVel). The contacts
+// and their forces stay those the last physics step began from, and nothing the next step
+// starts from changes: the solver's warm start, the bias forces and qpos (forward() normalises
+// the free bodies' quaternions) stay as that step left them.
+void observe_state(const model::Model& model, Data& data);
 
 // MuJoCo warnings counted since the last reset (sum over mjData.warning[].number), and a
 // one-line description ("" if none), e.g. "BADQACC x1 (info 12)".

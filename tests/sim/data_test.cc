@@ -131,6 +131,51 @@ TEST_F(DataTest, PrepareStepSetsTheInputsAndStepIsItThenMjStep) {
   ExpectNoWarnings(a.mj.get());
 }
 
+// observe_state gives the frames forward() gives for the state a physics step left (bit for
+// bit: the same MuJoCo functions on the same state) and changes nothing the next step starts
+// from, where forward() refreshes the warm start and the bias forces.
+TEST_F(DataTest, ObserveStateGivesForwardsFramesAndChangesNothingTheNextStepStartsFrom) {
+  model::SceneSpec spec = model::SceneSpec::Default();
+  const model::Model model = model::build(spec);
+  Data observed = make_data(model);
+  human::SkeletonPose pose = model.human_start;
+  pose.X_WP.translation += Vec3(0, 0.3, 0);
+  ArmVector q = model.robot.home();
+  q[0] += 0.4;
+  set_joint_targets(model, observed, q);
+  set_human_pose(model, observed, pose);
+  run(model, observed, 0.2);  // the arm turning, the person moved
+  Data forwarded = make_data(model);
+  copy_data(model, observed, forwarded);
+  const mjModel* m = model.m();
+  const mjData* o = observed.mj.get();
+  const std::vector<mjtNum> qpos(o->qpos, o->qpos + m->nq);
+  const std::vector<mjtNum> warmstart(o->qacc_warmstart, o->qacc_warmstart + m->nv);
+  const std::vector<mjtNum> bias(o->qfrc_bias, o->qfrc_bias + m->nv);
+  const int ncon = o->ncon;
+  observe_state(model, observed);
+  forward(model, forwarded);
+  const mjData* f = forwarded.mj.get();
+  const auto same = [](const mjtNum* a, const mjtNum* b, int n) { return std::memcmp(a, b, sizeof(mjtNum) * n) == 0; };
+  EXPECT_TRUE(same(o->xpos, f->xpos, 3 * m->nbody));
+  EXPECT_TRUE(same(o->xquat, f->xquat, 4 * m->nbody));
+  EXPECT_TRUE(same(o->geom_xpos, f->geom_xpos, 3 * m->ngeom));
+  EXPECT_TRUE(same(o->geom_xmat, f->geom_xmat, 9 * m->ngeom));
+  EXPECT_TRUE(same(o->site_xpos, f->site_xpos, 3 * m->nsite));
+  EXPECT_TRUE(same(o->cam_xpos, f->cam_xpos, 3 * m->ncam));
+  EXPECT_TRUE(same(o->subtree_com, f->subtree_com, 3 * m->nbody));
+  EXPECT_TRUE(same(o->cvel, f->cvel, 6 * m->nbody));
+  EXPECT_TRUE(tcp_pose(model, observed).translation == tcp_pose(model, forwarded).translation);
+  // What the next physics step starts from is as the last one left it; forward() changed it.
+  EXPECT_TRUE(std::equal(qpos.begin(), qpos.end(), o->qpos));
+  EXPECT_TRUE(std::equal(warmstart.begin(), warmstart.end(), o->qacc_warmstart));
+  EXPECT_TRUE(std::equal(bias.begin(), bias.end(), o->qfrc_bias));
+  EXPECT_EQ(o->ncon, ncon);
+  EXPECT_FALSE(std::equal(warmstart.begin(), warmstart.end(), f->qacc_warmstart));
+  EXPECT_FALSE(std::equal(bias.begin(), bias.end(), f->qfrc_bias));
+  ExpectNoWarnings(o);
+}
+
 // The hands' shapes ride in mjData::userdata for the renderers (model::kHandShapeValues).
 TEST_F(DataTest, SetHumanPoseGivesTheRenderersTheHandShapes) {
   const model::Model model = model::build(model::SceneSpec::Default());
