@@ -53,9 +53,10 @@ struct ContainerWalls {
 std::optional<ContainerWalls> container_walls(ObjectKind kind, double s);
 // Nominal mass (kg) at scale 1 (scales with size_scale^3).
 double nominal_mass(ObjectKind kind);
-// One object as a free <body> named "object_<name>" at pose X_WO (appended to `worldbody`).
+// One object as a free <body> named "object_<name>" at pose X_WO (appended to `worldbody`);
+// `base_foot`: SceneSpec::base_feet.
 void object(const ObjectSpec& spec, ObjectKind kind, const Rgba& colour, const core::Pose& X_WO,
-            std::string& worldbody);
+            bool base_foot, std::string& worldbody);
 
 // The human body: one mocap <body> "human_<joint name>" per joint at its world pose in `pose`,
 // carrying the capsules (geoms "human_<capsule name>"; the hands' not drawn, group 3) and, on the

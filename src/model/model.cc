@@ -360,7 +360,7 @@ Generated generate(const SceneSpec& spec) {
     }
     g.X_W_start.push_back(X_WO);
     g.X_palm_hold.push_back(hold);
-    mjcf::object(o, g.resolved.kinds[i], g.resolved.colours[i], X_WO, world);
+    mjcf::object(o, g.resolved.kinds[i], g.resolved.colours[i], X_WO, s.base_feet, world);
     // Human hands pass through objects (a held object sits against the palm); other human
     // parts collide with objects.
     if (h.present) {

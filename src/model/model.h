@@ -111,6 +111,11 @@ struct SceneSpec {
   double light_intensity = 1.0;
   // Lights cast shadows (MuJoCo's shadow map; costly on llvmpipe). Off by default.
   bool shadows = false;
+  // A hidden square foot inside the round base of every cup and bottle (massless, 2 mm high at
+  // scale 1). MuJoCo 2.2.2 gives a cylinder on a box one contact point, on which a cup standing
+  // on the table rocks for ever at a 5 ms step; the foot's box-box contacts hold it. Off as
+  // built: a physics candidate of `hribench bench --episodes` (docs/performance.md, "Physics").
+  bool base_feet = false;
 
   // A default scene: the default robot (the Panda), table, a red cube, a green cup, a blue
   // bin, and a human standing at the far edge facing the robot.

@@ -83,7 +83,7 @@ double nominal_mass(ObjectKind kind) {
 }
 
 void object(const ObjectSpec& spec, ObjectKind kind, const Rgba& colour, const core::Pose& X_WO,
-            std::string& worldbody) {
+            bool base_foot, std::string& worldbody) {
   const double s = spec.size_scale;
   const std::string body = "object_" + spec.name;
   const std::string colour_attr = "rgba=\"" + rgba(colour) + "\"";
@@ -99,6 +99,14 @@ void object(const ObjectSpec& spec, ObjectKind kind, const Rgba& colour, const c
     worldbody += "\n";
   } else {
     shape_geoms(shapes(kind, s), mass, body, "object", worldbody, colour_attr);
+  }
+  if (base_foot && (kind == ObjectKind::kCup || kind == ObjectKind::kBottle)) {
+    // A square inside the round base, as low as the base (SceneSpec::base_feet): hidden,
+    // massless, with sliding friction only.
+    const double half = 0.7 * shapes(kind, s).front().radius;
+    const double height = 0.002 * s;
+    shape_geoms({box(Vec3(0, 0, height / 2), Vec3(half, half, height / 2))}, 0, body + "_foot",
+                "object", worldbody, "group=\"3\" condim=\"3\" " + colour_attr);
   }
   if (kind == ObjectKind::kBox) {
     // The lid: hinged about +y at the top of the +x wall; q = 0 closed, opening upward.

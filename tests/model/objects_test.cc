@@ -128,6 +128,59 @@ TEST_F(ObjectsTest, SizesAndMassesScale) {
   EXPECT_LT((model.objects[1].half_extents - 2 * model.objects[0].half_extents).norm(), 1e-12);
 }
 
+// SceneSpec::base_feet: one hidden, massless box inside the round base of each cup and bottle,
+// level with the base's bottom; nothing else in the model changes.
+TEST_F(ObjectsTest, BaseFeetAreHiddenMasslessSquaresInsideRoundBases) {
+  SceneSpec spec;
+  spec.human.present = false;
+  spec.objects.resize(3);
+  const char* kinds[] = {"cup", "bottle", "cube"};
+  for (size_t i = 0; i < 3; ++i) {
+    spec.objects[i].kind = kinds[i];
+    spec.objects[i].x = 0.3 + 0.2 * static_cast<double>(i);
+    spec.objects[i].size_scale = 1.2;
+  }
+  const Model without = build(spec);
+  spec.base_feet = true;
+  const Model with = build(spec);
+  const mjModel& a = *without.m();
+  const mjModel& b = *with.m();
+  ASSERT_EQ(b.ngeom, a.ngeom + 2);
+  ASSERT_EQ(b.nbody, a.nbody);
+  for (int i = 0; i < a.nbody; ++i) {
+    EXPECT_EQ(a.body_mass[i], b.body_mass[i]) << i;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(a.body_inertia[3 * i + k], b.body_inertia[3 * i + k]) << i;
+  }
+  mjData* d = mj_makeData(&b);
+  mj_resetDataKeyframe(&b, d, 0);
+  mj_kinematics(&b, d);
+  int feet = 0;
+  for (int g = 0; g < b.ngeom; ++g) {
+    const char* name = mj_id2name(&b, mjOBJ_GEOM, g);
+    if (name == nullptr || std::string(name).find("_foot") == std::string::npos) continue;
+    ++feet;
+    const int body = b.geom_bodyid[g];
+    const ObjectInfo& o = with.objects[feet == 1 ? 0 : 1];
+    EXPECT_EQ(body, o.body) << name;
+    EXPECT_EQ(b.geom_type[g], mjGEOM_BOX) << name;
+    EXPECT_EQ(b.geom_group[g], 3) << name;
+    EXPECT_EQ(b.geom_condim[g], 3) << name;
+    // Its bottom face level with the base's, its corners inside the base's circle.
+    int base = -1;
+    for (int c = 0; c < b.ngeom && base < 0; ++c) {
+      if (b.geom_bodyid[c] == body && b.geom_type[c] == mjGEOM_CYLINDER) base = c;
+    }
+    ASSERT_GE(base, 0) << name;
+    const core::Pose X_OW = o.X_W_start.inverse();
+    const GeomBox foot = geom_box_in(b, *d, g, X_OW);
+    const GeomBox cylinder = geom_box_in(b, *d, base, X_OW);
+    EXPECT_NEAR(foot.centre.z() - foot.half.z(), cylinder.centre.z() - cylinder.half.z(), 1e-12) << name;
+    EXPECT_LT(std::hypot(b.geom_size[3 * g], b.geom_size[3 * g + 1]), b.geom_size[3 * base]) << name;
+  }
+  EXPECT_EQ(feet, 2);
+  mj_deleteData(d);
+}
+
 TEST_F(ObjectsTest, GeomsLieInsideTheDeclaredBoundingBox) {
   SceneSpec spec;
   spec.human.present = false;
