@@ -78,14 +78,38 @@ bool reset_peak_rss() {
 
 // ---- Physics candidates (measured only; the benchmark's physics is the scene as built). ----
 
-// Applies candidate `name` (see the header) to a built model's mjModel.
-void apply_physics(const std::string& name, model::Model& model) {
+// The parts of candidate `name` (see the header), joined by '+'.
+std::vector<std::string> candidate_parts(const std::string& name) {
+  std::vector<std::string> parts;
+  for (size_t from = 0; from < name.size();) {
+    const size_t plus = std::min(name.find('+', from), name.size());
+    parts.push_back(name.substr(from, plus - from));
+    from = plus + 1;
+  }
+  return parts;
+}
+
+// Applies the parts of a candidate that change the scene before it is built (base-feet) or how
+// the episode observes (observe-kinematics); returns the others, for apply_physics.
+std::vector<std::string> apply_scene_parts(const std::string& name, model::SceneSpec& scene,
+                                           eval::RunOptions& options) {
+  std::vector<std::string> rest;
+  for (const std::string& part : candidate_parts(name)) {
+    if (part == "base-feet") {
+      scene.base_feet = true;
+    } else if (part == "observe-kinematics") {
+      options.forward_after_control_step = false;
+    } else {
+      rest.push_back(part);
+    }
+  }
+  return rest;
+}
+
+// Applies candidate parts that change a built model's mjModel.
+void apply_physics(const std::vector<std::string>& parts, model::Model& model) {
   mjModel* m = model.mj.get();
-  std::string rest = name;
-  while (!rest.empty()) {
-    const size_t plus = rest.find('+');
-    const std::string part = rest.substr(0, plus);
-    rest = plus == std::string::npos ? "" : rest.substr(plus + 1);
+  for (const std::string& part : parts) {
     const size_t eq = part.find('=');
     const std::string key = part.substr(0, eq);
     const std::string value = eq == std::string::npos ? "" : part.substr(eq + 1);
@@ -186,10 +210,13 @@ EpisodeFigures run_one(const script::EpisodeSpec& spec, const std::string& ref, 
   const bool peak_known = measure_memory && reset_peak_rss();
   const long rss_before = measure_memory ? rss_kib() : 0;
   const Clock::time_point start = Clock::now();
-  model::Model built = model::build(eval::scene_spec_from_episode(spec));
-  apply_physics(physics, built);
+  model::SceneSpec scene = eval::scene_spec_from_episode(spec);
+  eval::RunOptions run = options;
+  const std::vector<std::string> model_parts = apply_scene_parts(physics, scene, run);
+  model::Model built = model::build(scene);
+  apply_physics(model_parts, built);
   auto model = std::make_shared<const model::Model>(std::move(built));
-  eval::Episode episode(spec, policy.spec(), eval::setup_of(spec, ref), options, model);
+  eval::Episode episode(spec, policy.spec(), eval::setup_of(spec, ref), run, model);
   if (observer) episode.add_observer(*observer);
   f.setup_seconds = seconds_since(start);
   const eval::EpisodeLog& log = eval::run_episode(episode, policy);
@@ -371,7 +398,9 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
   std::printf("HRIBench %s, MuJoCo %s; real task episodes (%d seed%s x %d repeat%s), one worker\n",
               std::string(core::version()).c_str(), mj_versionString(), o.seeds, o.seeds == 1 ? "" : "s",
               o.repeats, o.repeats == 1 ? "" : "s");
-  std::printf("%-22s %-24s %-14s %9s %9s %10s %11s %11s %8s %8s %9s %11s %11s %5s %6s %8s %5s\n", "task", "policy", "physics", "s/episode",
+  int physics_width = 14;  // the column fits the longest candidate
+  for (const std::string& p : o.physics) physics_width = std::max(physics_width, static_cast<int>(p.size()));
+  std::printf("%-22s %-24s %-*s %9s %9s %10s %11s %11s %8s %8s %9s %11s %11s %5s %6s %8s %5s\n", "task", "policy", physics_width, "physics", "s/episode",
               "setup s", "control/s", "physics/s", "raw phys/s", "cost/raw", "run/raw", "peak MB",
               "efc/njmax", "con/nconmax", "succ", "differ", "human N", "crit");
   nlohmann::json json_rows = nlohmann::json::array();
@@ -401,8 +430,8 @@ int run_episode_bench(const EpisodeBenchOptions& o) {
     }
     const double n = static_cast<double>(row.episodes.size());
     const EpisodeFigures& first = row.episodes.front();
-    std::printf("%-22s %-24s %-14s %9.3f %9.3f %10.0f %11.0f %11.0f %8.3f %8.3f %9.1f %5d/%-5d %5d/%-5d %5d %6d %8.0f %5d\n",
-                row.task.c_str(), row.policy.c_str(), row.physics.c_str(), seconds / n, setup / n, control / seconds,
+    std::printf("%-22s %-24s %-*s %9.3f %9.3f %10.0f %11.0f %11.0f %8.3f %8.3f %9.1f %5d/%-5d %5d/%-5d %5d %6d %8.0f %5d\n",
+                row.task.c_str(), row.policy.c_str(), physics_width, row.physics.c_str(), seconds / n, setup / n, control / seconds,
                 physics / seconds, physics / raw, median(ratios), median(run_ratios), peak / 1024.0,
                 efc, first.njmax, con, first.nconmax, successes, differ, human_force, critical);
     json_rows.push_back({{"task", row.task},

@@ -31,8 +31,10 @@
 // finger_armature; MuJoCo's constants derived from the inertia are recomputed);
 // grasp-timeconst=S and grasp-dmax=X (the contact time constant, solref[0], and the largest
 // impedance, solimp[1], of every finger and object geom: the contacts that hold a grasp);
-// joined by '+'
-// they combine (euler+iterations=20).
+// base-feet (model::SceneSpec::base_feet: a hidden square foot inside every cup's and bottle's
+// round base); observe-kinematics (the episode observes each control step's new state with
+// MuJoCo's kinematics instead of a forward pass, eval::RunOptions::forward_after_control_step);
+// joined by '+' they combine (euler+iterations=20).
 
 #include <string>
 #include <string_view>
@@ -43,7 +45,7 @@ namespace hribench::cli {
 // The --physics candidates (above), as the help and the error messages name them.
 inline constexpr std::string_view kPhysicsCandidates =
     "as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, impratio=X, "
-    "noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X";
+    "noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, base-feet, observe-kinematics";
 
 struct EpisodeBenchOptions {
   std::string tasks = "all";           // task ids or names (gen::resolve_task_scripts)

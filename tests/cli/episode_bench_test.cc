@@ -149,6 +149,25 @@ TEST(EpisodeBenchTest, RowsGiveThePeakContactForceOnThePerson) {
   EXPECT_EQ(j["tasks"][1]["max_human_force"].get<double>(), 0) << j["tasks"][1].dump();
 }
 
+TEST(EpisodeBenchTest, FeetAndTheKinematicObservationAreCandidates) {
+  // point_pick's scene has round-based objects on the table: their feet add contacts and
+  // change the episode. Observing with MuJoCo's kinematics alone leaves the next physics step
+  // its warm start and bias forces one step old, which changes the episode too; the raw
+  // mj_step beside it still makes every step as the episode did (the command checks it).
+  const nlohmann::json j = run_episode_bench_json(
+      "--tasks I1 --policies noop --horizon 1 --threads 1 "
+      "--physics as-built,base-feet,observe-kinematics,base-feet+observe-kinematics+timestep=0.005");
+  ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
+  ASSERT_EQ(j["tasks"].size(), 4u);
+  EXPECT_EQ(j["tasks"][1]["physics"], "base-feet");
+  EXPECT_EQ(j["tasks"][1]["differ_from_first_physics"], 1) << j["tasks"][1].dump();
+  EXPECT_GT(j["tasks"][1]["maxuse_con"].get<int>(), j["tasks"][0]["maxuse_con"].get<int>());
+  EXPECT_EQ(j["tasks"][2]["physics"], "observe-kinematics");
+  EXPECT_EQ(j["tasks"][2]["differ_from_first_physics"], 1) << j["tasks"][2].dump();
+  EXPECT_EQ(j["tasks"][2]["maxuse_con"], j["tasks"][0]["maxuse_con"]);
+  EXPECT_EQ(j["tasks"][3]["differ_from_first_physics"], 1) << j["tasks"][3].dump();
+}
+
 TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
   for (const auto& [args, message] :
        {std::pair<std::string, std::string>{"bench --episodes --seeds 0",
@@ -158,10 +177,12 @@ TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
         {"bench --episodes --policies nope", "policy: expected one of blind, gr00t, noop, openpi, oracle, random, reactive, got 'nope'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics rk4",
          "--physics: expected as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, "
-         "impratio=X, noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, joined by '+', got 'rk4'"},
+         "impratio=X, noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, base-feet, observe-kinematics, "
+         "joined by '+', got 'rk4'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics noslip=2.5",
          "--physics: expected as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, "
-         "impratio=X, noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, joined by '+', got 'noslip=2.5'"},
+         "impratio=X, noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, base-feet, observe-kinematics, "
+         "joined by '+', got 'noslip=2.5'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics grasp-dmax=1.5",
          "--physics: expected grasp-dmax below 1, got 'grasp-dmax=1.5'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics timestep=0.003",
