@@ -135,8 +135,7 @@ TEST_F(DataTest, PrepareStepSetsTheInputsAndStepIsItThenMjStep) {
 // bit: the same MuJoCo functions on the same state) and changes nothing the next step starts
 // from, where forward() refreshes the warm start and the bias forces.
 TEST_F(DataTest, ObserveStateGivesForwardsFramesAndChangesNothingTheNextStepStartsFrom) {
-  model::SceneSpec spec = model::SceneSpec::Default();
-  const model::Model model = model::build(spec);
+  const model::Model model = model::build(model::SceneSpec::Default());
   Data observed = make_data(model);
   human::SkeletonPose pose = model.human_start;
   pose.X_WP.translation += Vec3(0, 0.3, 0);
