@@ -417,9 +417,13 @@ void score_fluency(const Episode& e, EpisodeMetrics& m) {
   m.f_del = functional_delay(human_raw, robot_raw, e.c.time_epsilon);
 }
 
-// The task's success bounds the separation violation time and it was exceeded.
-bool violation_exceeded(const ScenarioContract& contract, const EpisodeMetrics& m) {
-  return contract.success_max_violation && m.violation_time > *contract.success_max_violation;
+// The task's success bounds the separation violation time and it was exceeded. The time is a
+// sum of control periods, so a violation as long as the bound sums to it only up to rounding
+// (30 steps of 50 ms gave 1.5 + 2e-13 s at 2.5 ms physics steps, 1.5 - 3e-14 s at 5 ms): it is
+// within the bound whichever way the sum rounds (docs/metrics.md).
+bool violation_exceeded(const Episode& e, const EpisodeMetrics& m) {
+  const std::optional<double>& bound = e.contract.success_max_violation;
+  return bound && m.violation_time > *bound + e.c.time_epsilon;
 }
 
 void label_failures(const Episode& e, EpisodeMetrics& m) {
@@ -442,7 +446,7 @@ void label_failures(const Episode& e, EpisodeMetrics& m) {
                   [](const CueResult& r) { return !r.responded && !r.premature; }),
       FailureLabel::kNoResponse);
   add(m.tsync && *m.tsync < e.c.desync_below, FailureLabel::kDesync);
-  add(m.hcs < e.c.unsafe_proximity_below || violation_exceeded(e.contract, m),
+  add(m.hcs < e.c.unsafe_proximity_below || violation_exceeded(e, m),
       FailureLabel::kUnsafeProximity);
   add(ever(series(e.log, e.contract.dropped_predicate)), FailureLabel::kDrop);
   add(m.dsr && *m.dsr == 0.0, FailureLabel::kNoRecovery);
@@ -514,7 +518,7 @@ EpisodeMetrics compute_metrics(const ScenarioContract& contract, const EpisodeLo
   m.success = held && log.status == core::EpisodeStatus::kOk && !m.critical_contact &&
               (!m.order_compliance || *m.order_compliance >= 1.0) &&
               !(contract.success_requires_no_contact && m.human_contact) &&
-              !violation_exceeded(contract, m);
+              !violation_exceeded(e, m);
   m.completion_time = m.success ? *m.success_since : log.horizon;
   // IR and fluency describe how the task was done: a failed episode has none to describe
   // (docs/metrics.md: a robot that never rests would otherwise idle least).

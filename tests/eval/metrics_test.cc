@@ -475,6 +475,12 @@ TEST(SafetyConditions, ViolationTimeBeyondTheBoundFailsSuccess) {
   EXPECT_EQ(*m.primary_label, FailureLabel::kUnsafeProximity);
   bounded.success_max_violation = 1.1;
   EXPECT_TRUE(compute_metrics(bounded, b.log()).success);
+  // A violation as long as the bound is within it, whichever way the control periods' sum
+  // rounds (1.5 + 2e-13 s at 2.5 ms physics steps); a microsecond more is not.
+  bounded.success_max_violation = m.violation_time - 2e-13;
+  EXPECT_TRUE(compute_metrics(bounded, b.log()).success);
+  bounded.success_max_violation = m.violation_time - 1e-6;
+  EXPECT_FALSE(compute_metrics(bounded, b.log()).success);
   // A short violation under the bound with a high HCS: success; over a zero bound: not, and
   // labelled unsafe_proximity though HCS is above its label threshold.
   EpisodeBuilder brief(5.0);
