@@ -89,16 +89,16 @@ std::vector<std::string> candidate_parts(const std::string& name) {
   return parts;
 }
 
-// Applies the parts of a candidate that change the scene before it is built (base-feet) or how
-// the episode observes (observe-kinematics); returns the others, for apply_physics.
+// Applies the parts of a candidate that change the scene before it is built (no-base-feet) or
+// how the episode observes (observe-forward); returns the others, for apply_physics.
 std::vector<std::string> apply_scene_parts(const std::string& name, model::SceneSpec& scene,
                                            eval::RunOptions& options) {
   std::vector<std::string> rest;
   for (const std::string& part : candidate_parts(name)) {
-    if (part == "base-feet") {
-      scene.base_feet = true;
-    } else if (part == "observe-kinematics") {
-      options.forward_after_control_step = false;
+    if (part == "no-base-feet") {
+      scene.base_feet = false;
+    } else if (part == "observe-forward") {
+      options.forward_after_control_step = true;
     } else {
       rest.push_back(part);
     }

@@ -17,7 +17,7 @@
 // changing the benchmark's physics: each candidate is applied to the episode's compiled model
 // (the episode and raw mj_step both run on it), and the rows of the later candidates count
 // the episodes whose outcome (success, status, primary label) or log differs from the first
-// candidate's. Candidates: as-built (the scene as built: euler-servo at 2.5 ms); implicit (the
+// candidate's. Candidates: as-built (the scene as built: euler-servo at 5 ms, pool v7); implicit (the
 // implicit integrator with the arm servos' damping in the servos alone,
 // model::servo_damping_in_servos: with timestep=0.002, pool v4's physics but for its lighter
 // fingers); euler (Euler integrator with the arm servos' damping kv moved from the actuators'
@@ -31,10 +31,12 @@
 // finger_armature; MuJoCo's constants derived from the inertia are recomputed);
 // grasp-timeconst=S and grasp-dmax=X (the contact time constant, solref[0], and the largest
 // impedance, solimp[1], of every finger and object geom: the contacts that hold a grasp);
-// base-feet (model::SceneSpec::base_feet: a hidden square foot inside every cup's and bottle's
-// round base); observe-kinematics (the episode observes each control step's new state with
-// MuJoCo's kinematics instead of a forward pass, eval::RunOptions::forward_after_control_step);
-// joined by '+' they combine (euler+iterations=20).
+// no-base-feet (model::SceneSpec::base_feet off: no hidden square foot inside the cups' and
+// bottles' round bases); observe-forward (the episode observes each control step's new state
+// with MuJoCo's forward pass instead of its kinematics alone,
+// eval::RunOptions::forward_after_control_step); joined by '+' they combine
+// (euler+iterations=20). Pool v6's physics: timestep=0.0025+finger-armature=0.1+no-base-feet+
+// observe-forward.
 
 #include <string>
 #include <string_view>
@@ -45,7 +47,7 @@ namespace hribench::cli {
 // The --physics candidates (above), as the help and the error messages name them.
 inline constexpr std::string_view kPhysicsCandidates =
     "as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, impratio=X, "
-    "noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, base-feet, observe-kinematics";
+    "noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, no-base-feet, observe-forward";
 
 struct EpisodeBenchOptions {
   std::string tasks = "all";           // task ids or names (gen::resolve_task_scripts)

@@ -6,7 +6,7 @@
 // identically. The runner (eval/runner.h), `hribench render --at` and anything else that runs
 // an episode are loops over it; the log is written through it, never by a second loop.
 //
-// Control at 1 / control_dt (20 Hz), physics at 400 Hz (model::kTimestep). Step k of the log
+// Control at 1 / control_dt (20 Hz), physics at 200 Hz (model::kTimestep). Step k of the log
 // describes the world at time k * control_dt; a step executes one action (or holds the last
 // command) over one control interval. The episode ends at the horizon, once "success" has held
 // for MetricConstants::success_hold (stop_on_success), on a MuJoCo warning (status invalid),
@@ -103,11 +103,12 @@ struct RunOptions {
   // GL back end for the cameras a policy asks for (one renderer per requested camera, made for
   // this episode's model). kNone refuses camera-asking policies.
   render::Backend render_backend = render::Backend::kOsmesa;
-  // After each control step the new state is observed with MuJoCo's full forward pass
-  // (sim::forward: the warm start and bias forces of the next physics step come from it); false:
-  // with its kinematics alone (sim::observe_state), which leaves them to the physics steps. A
-  // physics candidate of `hribench bench --episodes` (docs/performance.md); true as released.
-  bool forward_after_control_step = true;
+  // After each control step the new state is observed with MuJoCo's kinematics alone
+  // (sim::observe_state, as released since pool v7), which leaves the warm start and bias forces
+  // of the next physics step to the physics steps; true: with MuJoCo's full forward pass
+  // (sim::forward, pools up to v6), the physics candidate observe-forward of `hribench bench
+  // --episodes` (docs/performance.md, "Physics").
+  bool forward_after_control_step = false;
 };
 
 // What one step of an Episode returns.

@@ -1,7 +1,7 @@
 #pragma once
 // The episode runner: puts a Policy in an Episode (eval/episode.h) and steps it to the end —
 // a loop over the Episode, which records the EpisodeLog. Control at 1 / control_dt (20 Hz),
-// physics at 400 Hz (model::kTimestep); the episode ends at the horizon, when success has held
+// physics at 200 Hz (model::kTimestep); the episode ends at the horizon, when success has held
 // for MetricConstants::success_hold, or on trouble (invalid physics, a policy error), which
 // ends it with that status.
 //

@@ -35,8 +35,11 @@ namespace hribench::gen {
 // joints and heavier fingers, the person's lean solved every 50 ms, and fingers that move
 // against the gripper's command no longer counted as the robot moving (pool/v5, git
 // b1bfa23-13a8883); 6: co_lift's success also asks for the robot's share of the lift,
-// ever(grasped(robot, plank) and moved(plank, 0.10) and tilt(plank) < 15) (pool/v6).
-inline constexpr int kPoolVersion = 6;
+// ever(grasped(robot, plank) and moved(plank, 0.10) and tilt(plank) < 15) (pool/v6, git
+// 6c5c89a-ee3b8ce); 7: the 5 ms physics step with 1.2 kg fingers, a hidden square foot under
+// every cup and bottle, and each control step's state observed with MuJoCo's kinematics
+// instead of a forward pass (pool/v7).
+inline constexpr int kPoolVersion = 7;
 
 enum class Split { kAdapt, kEval, kTest };
 std::string_view to_string(Split split);  // "adapt" | "eval" | "test"

@@ -122,7 +122,7 @@ class FrameRecorder : public eval::EpisodeObserver {
 };
 
 struct CollectRequest {
-  std::string pool = "pool/v6";          // --pool
+  std::string pool = "pool/v7";          // --pool
   std::string split = "adapt";           // --split
   std::string policy = "oracle";         // --policy
   std::string cameras = "agentview,wrist";  // --cameras, comma-separated

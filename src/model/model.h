@@ -113,9 +113,10 @@ struct SceneSpec {
   bool shadows = false;
   // A hidden square foot inside the round base of every cup and bottle (massless, 2 mm high at
   // scale 1). MuJoCo 2.2.2 gives a cylinder on a box one contact point, on which a cup standing
-  // on the table rocks for ever at a 5 ms step; the foot's box-box contacts hold it. Off as
-  // built: a physics candidate of `hribench bench --episodes` (docs/performance.md, "Physics").
-  bool base_feet = false;
+  // on the table rocks for ever at the 5 ms step; the foot's box-box contacts hold it. On since
+  // pool v7; off is the physics candidate no-base-feet of `hribench bench --episodes`
+  // (docs/performance.md, "Physics").
+  bool base_feet = true;
 
   // A default scene: the default robot (the Panda), table, a red cube, a green cup, a blue
   // bin, and a human standing at the far edge facing the robot.
@@ -129,7 +130,7 @@ inline constexpr double kTableTopZ = 0.75;      // m
 inline constexpr double kTableXMin = -0.15;     // near edge (robot side), m
 inline constexpr double kTableXMax = 1.05;      // far edge (human side), m
 inline constexpr double kTableWidth = 1.0;      // along y, m
-inline constexpr double kTimestep = 0.0025;     // s (400 Hz physics; docs/performance.md, "Physics")
+inline constexpr double kTimestep = 0.005;      // s (200 Hz physics; docs/performance.md, "Physics")
 
 // MuJoCo's preallocated arena of every mjData (docs/performance.md). MuJoCo 2.2.2 sizes the
 // constraint arrays by njmax, among them the njmax x njmax matrix efc_AR, and clears the whole

@@ -119,11 +119,13 @@ Robot make_panda() {
   g.finger_travel = 0.04;
   g.finger_z = 0.0584;
   // The fingers' reflected drive inertia (kg). The gripper servo's damping (kv 40 N·s/m on the
-  // opening, 80 per finger) is taken explicitly by the Euler integrator: h·80/m must stay below
-  // 2 at the 2.5 ms step, which 0.01 and 0.05 kg did not (the fingers buzzed in place short of
-  // their target). Damping the fingers in their joints instead softened their contacts (a held
-  // cube squeezed to 31-49 mm of its 50): docs/performance.md, "Physics".
-  g.finger_armature = 0.1;
+  // opening, 80 per finger) is taken explicitly by the Euler integrator: each step multiplies a
+  // finger's velocity by 1 - h·80/m, which must stay within (-1, 1) (0.01 and 0.05 kg did not at
+  // 2.5 ms: the fingers buzzed in place short of their target). At the 5 ms step (pool v7)
+  // 1.2 kg gives 0.67, where 0.1 kg would give -3 and 0.3 kg -0.33 (a held bottle flickered in
+  // and out of the grasp). Damping the fingers in their joints instead softened their contacts
+  // (a held cube squeezed to 31-49 mm of its 50): docs/performance.md, "Physics".
+  g.finger_armature = 1.2;
   g.finger_damping = 2;
   // Finger structure (behind the pad) and the high-friction pad on the inner face near the tip.
   g.finger_shape = box(Vec3(0, 0.009, 0.027), Vec3(0.01, 0.005, 0.027));

@@ -3,7 +3,7 @@
 // controller targets, the human pose and the human's hold state. One Data per thread; the
 // Model it was made from is shared read-only and must outlive it.
 //
-// Stepping: step() advances the world by one 400 Hz physics step (model::kTimestep = 2.5 ms):
+// Stepping: step() advances the world by one 200 Hz physics step (model::kTimestep = 5 ms):
 // it poses the human mocap bodies from data.human_pose (forward kinematics only when the pose
 // changed since the last step), applies the human hold wrenches and the robot's gravity
 // compensation, then calls mj_step. It allocates nothing.

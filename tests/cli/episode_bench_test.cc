@@ -82,7 +82,7 @@ TEST(EpisodeBenchTest, PhysicsCandidatesAreRowsComparedWithTheFirst) {
   // (differ 0); the implicit integrator changes the physics, so its log differs.
   const nlohmann::json j = run_episode_bench_json(
       "--tasks I1 --policies noop --horizon 0.3 --threads 1 "
-      "--physics as-built,iterations=50,implicit+iterations=20,timestep=0.005");
+      "--physics as-built,iterations=50,implicit+iterations=20,timestep=0.0025");
   ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
   ASSERT_EQ(j["tasks"].size(), 4u);
   EXPECT_EQ(j["tasks"][0]["physics"], "as-built");
@@ -90,12 +90,12 @@ TEST(EpisodeBenchTest, PhysicsCandidatesAreRowsComparedWithTheFirst) {
   EXPECT_EQ(j["tasks"][1]["differ_from_first_physics"], 0);
   EXPECT_EQ(j["tasks"][2]["physics"], "implicit+iterations=20");
   EXPECT_EQ(j["tasks"][2]["differ_from_first_physics"], 1);
-  // A 5 ms physics step: 10 steps per 50 ms control step instead of 20, a different episode.
-  EXPECT_EQ(j["tasks"][3]["physics"], "timestep=0.005");
+  // A 2.5 ms physics step: 20 steps per 50 ms control step instead of 10, a different episode.
+  EXPECT_EQ(j["tasks"][3]["physics"], "timestep=0.0025");
   EXPECT_EQ(j["tasks"][3]["differ_from_first_physics"], 1);
   const double steps_as_built = j["tasks"][0]["physics_steps_per_episode"].get<double>();
   EXPECT_GT(steps_as_built, 0);
-  EXPECT_EQ(steps_as_built, 2 * j["tasks"][3]["physics_steps_per_episode"].get<double>());
+  EXPECT_EQ(2 * steps_as_built, j["tasks"][3]["physics_steps_per_episode"].get<double>());
 }
 
 TEST(EpisodeBenchTest, EulerKeepsTheOracleOnlyWithTheServoDampingAddedBack) {
@@ -149,23 +149,28 @@ TEST(EpisodeBenchTest, RowsGiveThePeakContactForceOnThePerson) {
   EXPECT_EQ(j["tasks"][1]["max_human_force"].get<double>(), 0) << j["tasks"][1].dump();
 }
 
-TEST(EpisodeBenchTest, FeetAndTheKinematicObservationAreCandidates) {
-  // point_pick's scene has round-based objects on the table: their feet add contacts and
-  // change the episode. Observing with MuJoCo's kinematics alone leaves the next physics step
-  // its warm start and bias forces one step old, which changes the episode too; the raw
-  // mj_step beside it still makes every step as the episode did (the command checks it).
+TEST(EpisodeBenchTest, PoolV6sFeetlessForwardObservationAreCandidates) {
+  // point_pick's scene has round-based objects on the table: taking their feet away removes
+  // contacts and changes the episode. Observing with MuJoCo's forward pass (pools up to v6)
+  // gives the next physics step its warm start and bias forces anew, which changes the episode
+  // too; the raw mj_step beside it still makes every step as the episode did (the command
+  // checks it). The last candidate is pool v6's physics.
   const nlohmann::json j = run_episode_bench_json(
       "--tasks I1 --policies noop --horizon 1 --threads 1 "
-      "--physics as-built,base-feet,observe-kinematics,base-feet+observe-kinematics+timestep=0.005");
+      "--physics as-built,no-base-feet,observe-forward,"
+      "timestep=0.0025+finger-armature=0.1+no-base-feet+observe-forward");
   ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
   ASSERT_EQ(j["tasks"].size(), 4u);
-  EXPECT_EQ(j["tasks"][1]["physics"], "base-feet");
+  EXPECT_EQ(j["tasks"][1]["physics"], "no-base-feet");
   EXPECT_EQ(j["tasks"][1]["differ_from_first_physics"], 1) << j["tasks"][1].dump();
-  EXPECT_GT(j["tasks"][1]["maxuse_con"].get<int>(), j["tasks"][0]["maxuse_con"].get<int>());
-  EXPECT_EQ(j["tasks"][2]["physics"], "observe-kinematics");
+  EXPECT_LT(j["tasks"][1]["maxuse_con"].get<int>(), j["tasks"][0]["maxuse_con"].get<int>());
+  EXPECT_EQ(j["tasks"][2]["physics"], "observe-forward");
   EXPECT_EQ(j["tasks"][2]["differ_from_first_physics"], 1) << j["tasks"][2].dump();
   EXPECT_EQ(j["tasks"][2]["maxuse_con"], j["tasks"][0]["maxuse_con"]);
   EXPECT_EQ(j["tasks"][3]["differ_from_first_physics"], 1) << j["tasks"][3].dump();
+  EXPECT_EQ(j["tasks"][3]["physics_steps_per_episode"].get<double>(),
+            2 * j["tasks"][0]["physics_steps_per_episode"].get<double>())
+      << j["tasks"][3].dump();
 }
 
 TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
@@ -177,11 +182,11 @@ TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
         {"bench --episodes --policies nope", "policy: expected one of blind, gr00t, noop, openpi, oracle, random, reactive, got 'nope'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics rk4",
          "--physics: expected as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, "
-         "impratio=X, noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, base-feet, observe-kinematics, "
+         "impratio=X, noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, no-base-feet, observe-forward, "
          "joined by '+', got 'rk4'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics noslip=2.5",
          "--physics: expected as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, "
-         "impratio=X, noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, base-feet, observe-kinematics, "
+         "impratio=X, noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, no-base-feet, observe-forward, "
          "joined by '+', got 'noslip=2.5'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics grasp-dmax=1.5",
          "--physics: expected grasp-dmax below 1, got 'grasp-dmax=1.5'"},

@@ -169,7 +169,7 @@ TEST(Episode, ObserversSeeEveryStep) {
   EXPECT_EQ(counter.starts, 1);
   EXPECT_EQ(counter.steps, 41);
   EXPECT_EQ(counter.ends, 1);
-  EXPECT_NEAR(counter.last_time, 2.0, 1e-9);  // 800 steps of 2.5 ms
+  EXPECT_NEAR(counter.last_time, 2.0, 1e-9);  // 400 steps of 5 ms
   EXPECT_TRUE(identical(load_episode_log(path), episode.log()));
   std::filesystem::remove(path);
 }

@@ -143,13 +143,15 @@ TEST(OracleBaselines, ReactiveAndBlindFailTheIntruderTasksWithTheExpectedLabel) 
 }
 
 // I4 with a stop: the oracle and reactive stay still from the stop to the next go; blind
-// starts before the first go.
+// starts before the first go. On its way the arm's link6 also strikes a distractor: 114 N
+// at one control step at pool v6's 2.5 ms, 112-200 N over four at 5 ms, above the 150 N of a
+// collision with any object, a label that comes before premature.
 TEST(OracleBaselines, StopGoOrderIsKeptByReactiveAndBrokenByBlind) {
   const Outcome reactive = run_task("tasks/I4_stop_go.yaml", 1, "reactive");
   EXPECT_TRUE(reactive.metrics.success) << describe(reactive);
   const Outcome blind = run_task("tasks/I4_stop_go.yaml", 1, "blind");
   EXPECT_FALSE(blind.metrics.success);
-  EXPECT_EQ(blind.metrics.primary_label, FailureLabel::kPremature) << describe(blind);
+  EXPECT_TRUE(has_label(blind.metrics, FailureLabel::kPremature)) << describe(blind);
 }
 
 // C4: blind lifts its end of the plank as soon as it holds it, before the person's lift cue

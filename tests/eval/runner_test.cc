@@ -275,7 +275,8 @@ TEST_F(RunnerTest, RobotShovedByThePenetratingHumanMovesAwayFromIt) {
     EXPECT_LT(s.approach_speed, -0.9 * s.closest_point_speed)
         << "t = " << s.time << ", d = " << s.separation;
   }
-  EXPECT_GT(shoved, 10);
+  // More than half of the physics steps of those 50 ms (10 at 5 ms).
+  EXPECT_GT(shoved, 0.025 / model::kTimestep);
 }
 
 // Asks for the given cameras (or the privileged track) and keeps what it observes.

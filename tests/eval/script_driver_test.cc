@@ -274,7 +274,7 @@ success:
   for (const auto& [t, p] : seen) {
     ASSERT_EQ(p.size(), 3u);
     // intent: the instruction (deliver's goal, true) until the contradiction starts at 1 s
-    // (the step whose time rounds to it: 400 steps of 2.5 ms add to 1 - 1e-14), then the
+    // (the step whose time rounds to it: 200 steps of 5 ms add to 1 + 7e-16), then the
     // success predicates (false).
     const bool started = t >= 1.0 - 1e-9;
     EXPECT_EQ(p[1], started ? p[0] : 1) << t;

@@ -128,10 +128,12 @@ TEST_F(ObjectsTest, SizesAndMassesScale) {
   EXPECT_LT((model.objects[1].half_extents - 2 * model.objects[0].half_extents).norm(), 1e-12);
 }
 
-// SceneSpec::base_feet: one hidden, massless box inside the round base of each cup and bottle,
-// level with the base's bottom; nothing else in the model changes.
+// SceneSpec::base_feet (on as built since pool v7): one hidden, massless box inside the round
+// base of each cup and bottle, level with the base's bottom; nothing else in the model changes.
 TEST_F(ObjectsTest, BaseFeetAreHiddenMasslessSquaresInsideRoundBases) {
   SceneSpec spec;
+  EXPECT_TRUE(spec.base_feet);
+  spec.base_feet = false;
   spec.human.present = false;
   spec.objects.resize(3);
   const char* kinds[] = {"cup", "bottle", "cube"};
