@@ -51,7 +51,7 @@ TEST(EpisodeBenchTest, RowPerTaskAndPolicyWithRatiosAndArenaUse) {
   EXPECT_EQ(j["tasks"][2]["task"], "handover_h2r");
   for (const auto& row : j["tasks"]) {
     EXPECT_EQ(row["episodes"], 1);
-    // 0.5 s at 20 Hz control, 20 physics steps each.
+    // 0.5 s at 20 Hz control, each control step 50 ms of physics steps (10 at 5 ms).
     EXPECT_DOUBLE_EQ(row["physics_steps_per_episode"].get<double>(), static_cast<double>(10 * std::lround(0.05 / model::kTimestep))) << row.dump();
     for (const char* key : {"seconds_per_episode", "setup_seconds_per_episode", "control_steps_per_second",
                             "physics_steps_per_second", "raw_physics_steps_per_second", "cost_ratio",
