@@ -29,6 +29,8 @@ uint64_t json_u64(const core::Json& value, const std::string& path) {
 
 }  // namespace
 
+std::string released_pool() { return "pool/v" + std::to_string(kPoolVersion); }
+
 std::string_view to_string(Split split) {
   switch (split) {
     case Split::kAdapt: return "adapt";

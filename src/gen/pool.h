@@ -40,6 +40,9 @@ namespace hribench::gen {
 // every cup and bottle, and each control step's state observed with MuJoCo's kinematics
 // instead of a forward pass (pool/v7).
 inline constexpr int kPoolVersion = 7;
+// The released pool of this benchmark version, as a path from the data root: "pool/vN" with N
+// = kPoolVersion (docs/generation.md).
+std::string released_pool();
 
 enum class Split { kAdapt, kEval, kTest };
 std::string_view to_string(Split split);  // "adapt" | "eval" | "test"

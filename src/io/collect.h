@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "eval/episode.h"
+#include "gen/pool.h"
 #include "io/recording.h"
 #include "model/robot.h"
 #include "policy/policy.h"
@@ -122,7 +123,7 @@ class FrameRecorder : public eval::EpisodeObserver {
 };
 
 struct CollectRequest {
-  std::string pool = "pool/v7";          // --pool
+  std::string pool = gen::released_pool();  // --pool
   std::string split = "adapt";           // --split
   std::string policy = "oracle";         // --policy
   std::string cameras = "agentview,wrist";  // --cameras, comma-separated

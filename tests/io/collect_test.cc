@@ -33,7 +33,7 @@ std::string temp_dir(const std::string& name) { return ::hribench::testing::temp
 const model::Robot& panda() { return model::robot_by_name("panda"); }
 
 script::EpisodeSpec first_adapt_episode(const std::string& task) {
-  return gen::pool_episodes(gen::read_manifest("pool/v7"), gen::Split::kAdapt, {task}).front();
+  return gen::pool_episodes(gen::read_manifest(gen::released_pool()), gen::Split::kAdapt, {task}).front();
 }
 
 // A small collect: 2 tasks, 1 episode each, 32x32 images.

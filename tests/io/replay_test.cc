@@ -23,7 +23,7 @@ using ::hribench::testing::error_of;
 class ReplayTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    specs_ = gen::pool_episodes(gen::read_manifest("pool/v7"), gen::Split::kAdapt, {"handover_r2h"});
+    specs_ = gen::pool_episodes(gen::read_manifest(gen::released_pool()), gen::Split::kAdapt, {"handover_r2h"});
     // The oracle to its end (the script's horizon, as a collect runs it), float32 actions.
     Float32Actions policy(policy::make_policy("oracle"));
     eval::RunOptions options;
