@@ -300,7 +300,7 @@ void Episode::record(const policy::Action* action) {
   s.joint_pos.assign(q.begin(), q.end());
   const sim::ArmVector qd = sim::arm_joint_velocities(model, data);
   s.joint_vel.assign(qd.begin(), qd.end());
-  s.X_WT = sim::tcp_pose(model, data);
+  s.X_WT = sim::observed_tcp_pose(model, data);
   s.gripper_width = sim::gripper_width(model, data);
   for (size_t f = 0; f < 2; ++f) s.finger_pos[f] = d.qpos[model.finger_qpos_adr[f]];
   if (action != nullptr) s.action = *action;
@@ -381,7 +381,7 @@ bool Episode::advance(const policy::Action* action) {
       sim::EeDelta delta;
       delta.translation = core::Vec3(a[0], a[1], a[2]);
       delta.rotation = core::Vec3(a[3], a[4], a[5]);
-      sim::apply_ee_delta(model, data, delta);
+      sim::apply_ee_delta(model, data, delta, sim::observed_tcp_pose(model, data));
     } else {
       sim::ArmVector q(model.robot.dof());
       std::copy_n(a.begin(), q.size(), q.begin());

@@ -28,7 +28,8 @@ double clamp_joint(const model::ArmJoint& joint, double q) {
   return std::clamp(q, joint.q_min + kLimitMargin, joint.q_max - kLimitMargin);
 }
 
-// Scratch kinematics for arm configuration q (other qpos as in the simulated state).
+// Scratch kinematics (poses of bodies, geoms and sites) for arm configuration q (other qpos as in
+// the simulated state). A Jacobian needs scratch_com_pos after it.
 void scratch_kinematics(const model::Model& model, Data& data, const ArmVector* q) {
   const mjModel* m = model.m();
   mjData* s = data.scratch.get();
@@ -36,8 +37,11 @@ void scratch_kinematics(const model::Model& model, Data& data, const ArmVector* 
   if (q != nullptr)
     for (size_t i = 0; i < q->size(); ++i) s->qpos[model.arm_qpos_adr[i]] = (*q)[i];
   mj_kinematics(m, s);
-  mj_comPos(m, s);
 }
+
+// The centres of mass and motion axes of the scratch kinematics (what mj_jacSite reads); they
+// change no pose, so a pose read before or after is the same to the bit.
+void scratch_com_pos(const model::Model& model, Data& data) { mj_comPos(model.m(), data.scratch.get()); }
 
 core::Pose site_pose(const mjData* d, int site) {
   core::Pose X;
@@ -58,6 +62,7 @@ Jacobian tcp_jacobian(const model::Model& model, Data& data) {
   const mjModel* m = model.m();
   mjtNum* jacp = data.jacobian.data();
   mjtNum* jacr = jacp + 3 * m->nv;
+  scratch_com_pos(model, data);
   mj_jacSite(m, data.scratch.get(), jacp, jacr, model.tcp_site);
   Jacobian J(6, static_cast<Eigen::Index>(model.arm_dof_adr.size()));
   for (size_t c = 0; c < model.arm_dof_adr.size(); ++c) {
@@ -133,7 +138,10 @@ IkResult set_tcp_target(const model::Model& model, Data& data, const core::Pose&
 }
 
 IkResult apply_ee_delta(const model::Model& model, Data& data, const EeDelta& delta) {
-  const core::Pose X = tcp_pose(model, data);
+  return apply_ee_delta(model, data, delta, tcp_pose(model, data));
+}
+
+IkResult apply_ee_delta(const model::Model& model, Data& data, const EeDelta& delta, const core::Pose& X) {
   core::Pose target;
   target.translation = X.translation + delta.translation;
   const double angle = delta.rotation.norm();
@@ -169,6 +177,10 @@ core::Pose tcp_pose(const model::Model& model, Data& data) {
   return site_pose(data.scratch.get(), model.tcp_site);
 }
 
+core::Pose observed_tcp_pose(const model::Model& model, const Data& data) {
+  return site_pose(data.mj.get(), model.tcp_site);
+}
+
 core::Pose flange_pose(const model::Model& model, Data& data) {
   scratch_kinematics(model, data, nullptr);
   return site_pose(data.scratch.get(), model.flange_site);
@@ -177,6 +189,7 @@ core::Pose flange_pose(const model::Model& model, Data& data) {
 double tcp_speed(const model::Model& model, Data& data) {
   const mjModel* m = model.m();
   scratch_kinematics(model, data, nullptr);
+  scratch_com_pos(model, data);
   mjtNum* jacp = data.jacobian.data();
   mj_jacSite(m, data.scratch.get(), jacp, nullptr, model.tcp_site);
   core::Vec3 v = core::Vec3::Zero();

@@ -48,6 +48,9 @@ struct IkResult {
 // Sets joint targets that move the TCP from its current pose (from the current qpos) by
 // `delta`. Allocation-free.
 IkResult apply_ee_delta(const model::Model& model, Data& data, const EeDelta& delta);
+// The same from a TCP pose the caller has (observed_tcp_pose of an observed state): no
+// kinematics for the start pose.
+IkResult apply_ee_delta(const model::Model& model, Data& data, const EeDelta& delta, const core::Pose& X_W_tcp);
 // Same with the target TCP pose in world given directly.
 IkResult set_tcp_target(const model::Model& model, Data& data, const core::Pose& X_W_tcp);
 
@@ -66,6 +69,10 @@ ArmVector arm_joint_velocities(const model::Model& model, const Data& data);  //
 double gripper_width(const model::Model& model, const Data& data);  // finger opening, m
 // TCP / flange pose in world computed from the current qpos (uses data.scratch).
 core::Pose tcp_pose(const model::Model& model, Data& data);
+// The TCP pose in data's own kinematics, as the last sim::forward or sim::observe_state left
+// them: tcp_pose's to the bit while qpos has not changed since (an episode observes its state
+// after every control step), without computing the kinematics again (docs/performance.md).
+core::Pose observed_tcp_pose(const model::Model& model, const Data& data);
 core::Pose flange_pose(const model::Model& model, Data& data);
 // TCP linear speed (m/s) from the current qpos/qvel.
 double tcp_speed(const model::Model& model, Data& data);

@@ -7,12 +7,25 @@
 
 namespace hribench::sim {
 
+namespace {
+constexpr int kScratchStack = 1000;  // mjtNum: mj_makeData wants some stack, the scratch uses none
+}  // namespace
+
 Data make_data(const model::Model& model) {
   const mjModel* m = model.m();
   HRIB_CHECK(m != nullptr) << "make_data on an unbuilt Model";
   Data data;
   data.mj.reset(mj_makeData(m));
-  data.scratch.reset(mj_makeData(m));
+  // The IK scratch runs only kinematics, centres of mass and Jacobians (sim/control.cc), which
+  // touch no constraint row, contact or stack slot, so it is made without the constraint arena
+  // (about 12 MB that MuJoCo clears per mjData: docs/performance.md, "Fixed costs per episode"):
+  // mj_makeData reads the sizes from the struct, and the shallow copy shares every array of `m`.
+  // A stack use would stop with MuJoCo's stack error, never go unseen.
+  mjModel scratch_sizes = *m;
+  scratch_sizes.njmax = 0;
+  scratch_sizes.nconmax = 0;
+  scratch_sizes.nstack = kScratchStack;
+  data.scratch.reset(mj_makeData(&scratch_sizes));
   HRIB_CHECK(data.mj && data.scratch) << "mj_makeData failed";
   data.jacobian.assign(static_cast<size_t>(6 * m->nv), 0.0);
   reset(model, data);

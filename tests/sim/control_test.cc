@@ -119,6 +119,27 @@ TEST_F(ControlTest, EeDeltaMovesTheTcpByTheRequestedAmount) {
   ExpectNoWarnings(data.mj.get());
 }
 
+// From an observed state, the delta from the observed TCP pose (what an episode passes) sets the
+// same joint targets, to the bit, as the delta from the pose the scratch computes.
+TEST_F(ControlTest, EeDeltaFromTheObservedTcpPoseIsTheSame) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  Data a = make_data(model);
+  EeDelta delta;
+  delta.translation = Vec3(0.02, -0.01, 0.015);
+  delta.rotation = Vec3(0, 0.05, 0.1);
+  apply_ee_delta(model, a, delta);
+  run(model, a, 0.3);
+  observe_state(model, a);
+  Data b = make_data(model);
+  copy_data(model, a, b);
+  const IkResult from_scratch = apply_ee_delta(model, a, delta);
+  const IkResult from_observed = apply_ee_delta(model, b, delta, observed_tcp_pose(model, b));
+  EXPECT_TRUE(std::equal(from_scratch.q_target.begin(), from_scratch.q_target.end(), from_observed.q_target.begin()));
+  EXPECT_EQ(from_scratch.position_error, from_observed.position_error);
+  EXPECT_EQ(from_scratch.rotation_error, from_observed.rotation_error);
+  ExpectNoWarnings(a.mj.get());
+}
+
 TEST_F(ControlTest, EeDeltaRespectsJointLimits) {
   const model::Model model = model::build(model::SceneSpec::Default());
   Data data = make_data(model);

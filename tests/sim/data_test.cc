@@ -131,6 +131,39 @@ TEST_F(DataTest, PrepareStepSetsTheInputsAndStepIsItThenMjStep) {
   ExpectNoWarnings(a.mj.get());
 }
 
+// The IK scratch is made without MuJoCo's constraint arena, and its kinematics, centres of mass
+// and Jacobians are those of a whole mjData to the bit.
+TEST_F(DataTest, TheIkScratchLeavesOutTheConstraintArenaAndComputesTheSame) {
+  const model::Model model = model::build(model::SceneSpec::Default());
+  Data data = make_data(model);
+  const mjModel* m = model.m();
+  EXPECT_EQ(data.scratch->nbuffer * 10 < data.mj->nbuffer, true)
+      << "scratch " << data.scratch->nbuffer << " bytes, state " << data.mj->nbuffer;
+  ArmVector q = model.robot.home();
+  q[1] += 0.3;
+  set_joint_targets(model, data, q);
+  for (int i = 0; i < 40; ++i) step(model, data);  // the arm moving
+  const MjDataPtr whole(mj_makeData(m));
+  mju_copy(whole->qpos, data.mj->qpos, m->nq);
+  mj_kinematics(m, whole.get());
+  mj_comPos(m, whole.get());
+  std::vector<mjtNum> jacp(static_cast<size_t>(3 * m->nv)), jacr(jacp.size());
+  mj_jacSite(m, whole.get(), jacp.data(), jacr.data(), model.tcp_site);
+  double speed = 0;
+  for (int r = 0; r < 3; ++r) {
+    double v = 0;
+    for (int c = 0; c < m->nv; ++c) v += jacp[static_cast<size_t>(r * m->nv + c)] * data.mj->qvel[c];
+    speed += v * v;
+  }
+  EXPECT_GT(std::sqrt(speed), 0.01);  // m/s
+  EXPECT_EQ(tcp_speed(model, data), std::sqrt(speed));
+  const core::Vec3 p_whole(whole->site_xpos[3 * model.tcp_site], whole->site_xpos[3 * model.tcp_site + 1],
+                           whole->site_xpos[3 * model.tcp_site + 2]);
+  EXPECT_TRUE(tcp_pose(model, data).translation == p_whole);
+  EXPECT_TRUE(std::equal(data.scratch->subtree_com, data.scratch->subtree_com + 3 * m->nbody, whole->subtree_com));
+  ExpectNoWarnings(data.mj.get());
+}
+
 // observe_state gives the frames forward() gives for the state a physics step left (bit for
 // bit: the same MuJoCo functions on the same state) and changes nothing the next step starts
 // from, where forward() refreshes the warm start and the bias forces.
@@ -165,6 +198,13 @@ TEST_F(DataTest, ObserveStateGivesForwardsFramesAndChangesNothingTheNextStepStar
   EXPECT_TRUE(same(o->subtree_com, f->subtree_com, 3 * m->nbody));
   EXPECT_TRUE(same(o->cvel, f->cvel, 6 * m->nbody));
   EXPECT_TRUE(tcp_pose(model, observed).translation == tcp_pose(model, forwarded).translation);
+  // Either way the TCP pose in the data's own kinematics is the scratch's, to the bit.
+  for (Data* data : {&observed, &forwarded}) {
+    const core::Pose scratch = tcp_pose(model, *data);
+    const core::Pose own = observed_tcp_pose(model, *data);
+    EXPECT_TRUE(own.translation == scratch.translation);
+    EXPECT_TRUE(own.rotation.coeffs() == scratch.rotation.coeffs());
+  }
   // What the next physics step starts from is as the last one left it; forward() changed it.
   EXPECT_TRUE(std::equal(qpos.begin(), qpos.end(), o->qpos));
   EXPECT_TRUE(std::equal(warmstart.begin(), warmstart.end(), o->qacc_warmstart));
