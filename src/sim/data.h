@@ -44,7 +44,8 @@ struct HoldState {
 
 struct Data {
   MjDataPtr mj;        // never null after make_data()
-  MjDataPtr scratch;   // a second mjData for differential IK (never the simulated state)
+  MjDataPtr scratch;   // a second mjData for differential IK (never the simulated state; made
+                       // without the constraint arena: kinematics and Jacobians only)
   std::vector<mjtNum> jacobian;  // 6 x nv scratch for IK (allocated by make_data)
 
   // Robot controller targets (what the servos track; written to mj->ctrl).
