@@ -55,6 +55,12 @@ class ScenarioDriver {
   virtual void reset(const model::Model& model, sim::Data& data) = 0;
   // Before every physics step: pose the human for data.time() (sim::set_human_pose).
   virtual void drive(const model::Model& model, sim::Data& data) = 0;
+  // Instead of drive, under RunOptions::person_pose_per_control_step: before physics step
+  // `step` (0-based) of the `steps` of a control step. A driver that poses only by drive poses
+  // as drive does.
+  virtual void drive_between(const model::Model& model, sim::Data& data, int /*step*/, int /*steps*/) {
+    drive(model, data);
+  }
   // After every control step (derived quantities current): the truth of each predicate series
   // (aligned with predicate_names) and the events that happened since the last call
   // (appended to `events`, times <= data.time()).
@@ -109,6 +115,12 @@ struct RunOptions {
   // (sim::forward, pools up to v6), the physics candidate observe-forward of `hribench bench
   // --episodes` (docs/performance.md, "Physics").
   bool forward_after_control_step = false;
+  // The person's pose is made from the plans once per control step, at its start and its end,
+  // and every physics step between poses the joints interpolated (slerp) from one to the other;
+  // holds follow the labels at the control step's start (ScenarioDriver::drive_between). As
+  // released, a pose is made for every physics step (false). The physics candidate
+  // person-per-control-step of `hribench bench --episodes` (docs/performance.md).
+  bool person_pose_per_control_step = false;
 };
 
 // What one step of an Episode returns.

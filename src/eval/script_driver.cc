@@ -279,6 +279,8 @@ void ScriptDriver::reset(const model::Model& model, sim::Data& data) {
   last_holding_ = {};
   holding_plan_ = {-1, -1};
   events_seen_ = 0;
+  control_step_start_.reset();
+  control_step_end_.reset();
   // Graph objects in the model: objects, or platforms (fixed).
   object_of_graph_.assign(script_->graph.objects.size(), -1);
   platform_of_graph_.assign(script_->graph.objects.size(), -1);
@@ -307,33 +309,36 @@ void ScriptDriver::reset(const model::Model& model, sim::Data& data) {
   world_.table_height = model::kTableTopZ;
 }
 
-void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
-  if (active_ < 0 || !model.has_human) return;
+std::optional<ScriptDriver::Posed> ScriptDriver::pose_at(const model::Model& model, double t) {
+  if (active_ < 0 || !model.has_human) return std::nullopt;
   ActMotion& body = motions_[static_cast<size_t>(active_)];
-  if (!body.playing()) return;
-  const human::MotionPlan::Frame body_frame = body.frame_at(data.time() - body.start);
-  human::SkeletonPose pose = body_frame.pose;
+  if (!body.playing()) return std::nullopt;
+  const human::MotionPlan::Frame body_frame = body.frame_at(t - body.start);
+  Posed posed;
+  human::SkeletonPose& pose = posed.pose;
+  pose = body_frame.pose;
   // A walk that an act started mid-way keeps going: the root and the legs follow the latest
   // started act that moves the root while its plan runs (the upper body rides along).
   int walker = -1;
   for (size_t i = 0; i < motions_.size(); ++i) {
     const ActMotion& m = motions_[i];
     if (!m.playing() || !m.moves_root || runtime_.acts[i].status != script::ActStatus::kRunning ||
-        data.time() - m.start >= m.end_time()) {
+        t - m.start >= m.end_time()) {
       continue;
     }
     if (walker < 0 || m.start >= motions_[static_cast<size_t>(walker)].start) walker = static_cast<int>(i);
   }
   if (walker >= 0 && walker != active_) {
     ActMotion& m = motions_[static_cast<size_t>(walker)];
-    const human::SkeletonPose walk = m.frame_at(data.time() - m.start).pose;
+    const human::SkeletonPose walk = m.frame_at(t - m.start).pose;
     pose.X_WP = walk.X_WP;
     for (const human::Joint j : kLegs) pose.local[static_cast<size_t>(human::index(j))] = walk.local[static_cast<size_t>(human::index(j))];
   }
   // Each hand follows the latest started act that moves it (a person holding a lid with one
   // hand while the other points); the rest of the body the latest started act.
-  std::array<human::FrameLabel, 2> labels;
-  std::array<int, 2> owner = {active_, active_};
+  std::array<human::FrameLabel, 2>& labels = posed.labels;
+  std::array<int, 2>& owner = posed.owner;
+  owner = {active_, active_};
   for (size_t h = 0; h < 2; ++h) {
     if (!body.moves[h]) {
       for (size_t i = 0; i < motions_.size(); ++i) {
@@ -349,7 +354,7 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
       continue;
     }
     ActMotion& m = motions_[static_cast<size_t>(owner[h])];
-    const human::MotionPlan::Frame arm = m.frame_at(data.time() - m.start);
+    const human::MotionPlan::Frame arm = m.frame_at(t - m.start);
     labels[h] = arm.label;
     // The arm reaches where the owning plan puts the wrist (world pose), from this torso.
     pose.hands[h] = arm.pose.hands[h];
@@ -360,7 +365,33 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
     target.swivel = arm.key.hands[h].swivel;
     human::solve_arm(model.skeleton, pose, kSides[h], target);
   }
-  sim::set_human_pose(model, data, pose);
+  return posed;
+}
+
+void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
+  const std::optional<Posed> posed = pose_at(model, data.time());
+  if (!posed) return;
+  sim::set_human_pose(model, data, posed->pose);
+  hold_as_labelled(model, data, *posed);
+}
+
+void ScriptDriver::drive_between(const model::Model& model, sim::Data& data, int step, int steps) {
+  if (step == 0) {
+    control_step_start_ = pose_at(model, data.time());
+    control_step_end_.reset();
+    if (control_step_start_) control_step_end_ = pose_at(model, data.time() + steps * model.m()->opt.timestep);
+  }
+  if (!control_step_start_) return;
+  const human::SkeletonPose& start = control_step_start_->pose;
+  const double share = static_cast<double>(step) / steps;
+  sim::set_human_pose(model, data,
+                      control_step_end_ ? human::interpolate(start, control_step_end_->pose, share) : start);
+  if (step == 0) hold_as_labelled(model, data, *control_step_start_);
+}
+
+void ScriptDriver::hold_as_labelled(const model::Model& model, sim::Data& data, const Posed& posed) {
+  const std::array<human::FrameLabel, 2>& labels = posed.labels;
+  const std::array<int, 2>& owner = posed.owner;
   // Hand holds follow the owning plan's labels (changes within one plan only).
   for (size_t h = 0; h < 2; ++h) {
     const std::string& holding = labels[h].hands[h].holding;

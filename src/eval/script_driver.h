@@ -11,6 +11,8 @@
 // (its arm solved to that plan's wrist pose from the current torso), so a person can hold a lid
 // with one hand while the other points; while the latest started act that moves the root (a
 // walk) runs, the root and legs follow it, so an act started mid-walk does not stop the walk.
+// Under RunOptions::person_pose_per_control_step (drive_between, a bench candidate) that pose
+// is made at each control step's start and end only and interpolated between.
 // Holds follow the hand's plan labels (holding X begins:
 // a box is held by its lid, sim::grasp_lid_by_human; a plank by point holds,
 // sim::grasp_point_by_human; anything else sim::grasp_by_human; ends: sim::release_by_human).
@@ -94,6 +96,7 @@ class ScriptDriver : public ScenarioDriver {
   std::vector<std::string> predicate_names() const override { return script_->predicate_names; }
   void reset(const model::Model& model, sim::Data& data) override;
   void drive(const model::Model& model, sim::Data& data) override;
+  void drive_between(const model::Model& model, sim::Data& data, int step, int steps) override;
   void observe(const model::Model& model, const sim::Data& data,
                std::vector<uint8_t>& predicates, std::vector<Event>& events) override;
 
@@ -131,6 +134,17 @@ class ScriptDriver : public ScenarioDriver {
     std::string cue_kind;  // non-empty: also a kCue event
   };
 
+  // The person at time t: the body from the active act's plan, each hand from the latest
+  // started act that moves it (labels and owning act per hand), the root and legs from a walk
+  // still running; none while no act poses the body.
+  struct Posed {
+    human::SkeletonPose pose;
+    std::array<human::FrameLabel, 2> labels;
+    std::array<int, 2> owner{};  // act whose plan moves each hand
+  };
+  std::optional<Posed> pose_at(const model::Model& model, double t);
+  // Grasps and releases what each hand's owning plan says it holds.
+  void hold_as_labelled(const model::Model& model, sim::Data& data, const Posed& posed);
   void fill_world(const model::Model& model, const sim::Data& data);
   void start_plan(const model::Model& model, const sim::Data& data, size_t act);
   void start_clip(const model::Model& model, const sim::Data& data, size_t act);
@@ -156,6 +170,8 @@ class ScriptDriver : public ScenarioDriver {
   std::array<int, 2> holding_plan_ = {-1, -1};  // act whose labels last_holding_[h] came from
   size_t events_seen_ = 0;
   core::Vec3 p_WT_home_ = core::Vec3::Zero();
+  // drive_between: the person at the current control step's start and end.
+  std::optional<Posed> control_step_start_, control_step_end_;
 };
 
 }  // namespace hribench::eval

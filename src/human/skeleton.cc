@@ -167,6 +167,18 @@ std::array<core::Pose, kNumJoints> forward_kinematics(const Skeleton& skeleton,
   return X_WJ;
 }
 
+SkeletonPose interpolate(const SkeletonPose& a, const SkeletonPose& b, double s) {
+  SkeletonPose out;
+  out.X_WP.translation = (1 - s) * a.X_WP.translation + s * b.X_WP.translation;
+  out.X_WP.rotation = a.X_WP.rotation.slerp(s, b.X_WP.rotation);
+  for (size_t j = 0; j < out.local.size(); ++j) out.local[j] = a.local[j].slerp(s, b.local[j]);
+  for (size_t h = 0; h < out.hands.size(); ++h) {
+    out.hands[h] = {(1 - s) * a.hands[h].grip + s * b.hands[h].grip,
+                    (1 - s) * a.hands[h].point + s * b.hands[h].point};
+  }
+  return out;
+}
+
 core::Pose joint_pose(const Skeleton& skeleton, const SkeletonPose& pose, Joint joint) {
   std::array<size_t, kNumJoints> chain;  // the joint, its parent, ..., below the pelvis
   size_t n = 0;

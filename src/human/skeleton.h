@@ -98,6 +98,10 @@ std::array<core::Pose, kNumJoints> forward_kinematics(const Skeleton& skeleton,
 // the inner loops of the lean (human/motion.cc), which need an ankle, a shoulder or the neck.
 core::Pose joint_pose(const Skeleton& skeleton, const SkeletonPose& pose, Joint joint);
 
+// The pose a share s (0..1) of the way from a to b: the root's position and the hands' shapes
+// linear, the root's and every joint's rotation slerped.
+SkeletonPose interpolate(const SkeletonPose& a, const SkeletonPose& b, double s);
+
 // A capsule of the human body, rigidly attached to one joint frame.
 struct BodyCapsule {
   std::string_view name;  // e.g. "left_forearm"

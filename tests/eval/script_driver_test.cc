@@ -12,6 +12,7 @@
 
 #include "core/errors.h"
 #include "eval/runner.h"
+#include "human/skeleton.h"
 #include "model/model.h"
 #include "policy/builtin.h"
 #include "script/check.h"
@@ -49,24 +50,35 @@ class ScriptDriverTest : public hribench::testing::MujocoTest {
   // the horizon.
   static void play(const script::EpisodeSpec& spec, const model::Model& model, double horizon,
                    const std::function<bool(const ScriptDriver&, const sim::Data&, const std::vector<uint8_t>&)>& at) {
-    sim::Data data = sim::make_data(model);
-    ScriptDriver driver(spec);
-    sim::reset(model, data);
-    driver.reset(model, data);
-    sim::forward(model, data);
-    std::vector<uint8_t> predicates;
-    std::vector<Event> events;
-    while (data.time() < horizon) {
+    Started s(spec, model);
+    while (s.data.time() < horizon) {
       for (int i = 0; i < 25; ++i) {
-        driver.drive(model, data);
-        sim::step(model, data);
+        s.driver.drive(model, s.data);
+        sim::step(model, s.data);
       }
+      s.observe(model);
+      if (!at(s.driver, s.data, s.predicates)) break;
+    }
+    ExpectNoWarnings(s.data.mj.get());
+  }
+  // A script's driver and state at the start of an episode, the robot at home.
+  struct Started {
+    Started(const script::EpisodeSpec& spec, const model::Model& model)
+        : data(sim::make_data(model)), driver(spec) {
+      sim::reset(model, data);
+      driver.reset(model, data);
+      sim::forward(model, data);
+    }
+    // After a control step's physics steps: the state forwarded, then observed by the driver.
+    void observe(const model::Model& model) {
       sim::forward(model, data);
       driver.observe(model, data, predicates, events);
-      if (!at(driver, data, predicates)) break;
     }
-    ExpectNoWarnings(data.mj.get());
-  }
+    sim::Data data;
+    ScriptDriver driver;
+    std::vector<uint8_t> predicates;
+    std::vector<Event> events;
+  };
   // A script's text sampled at seed 1 (a script that does not parse fails the test).
   static script::EpisodeSpec sample_text(const std::string& yaml, const std::string& name) {
     std::vector<core::InputError> problems;
@@ -487,6 +499,52 @@ TEST_F(ScriptDriverTest, GivingUpKeepsTheOfferedItem) {
                  e.detail == "false")
         << "dropped at " << e.time;
   }
+}
+
+// Under RunOptions::person_pose_per_control_step the person's pose at physics step i of a
+// control step is the pose drive() gives at the control step's start slerped a share i / n
+// toward the one it gives at its end (both from a copy of the driver as it stood), up to
+// rounding (where no act poses the person, the pose is left as it is, not slerped to itself).
+TEST_F(ScriptDriverTest, DriveBetweenInterpolatesThePosesAtTheControlStepsEnds) {
+  // The person offers an object from the start (a hand holding it).
+  const script::EpisodeSpec spec = script::sample(script::load_scenario("tasks/C1_handover_h2r.yaml"), 1);
+  const model::Model model = model::build(scene_spec_from_episode(spec));
+  Started s(spec, model);
+  sim::Data& data = s.data;
+  ScriptDriver& driver = s.driver;
+  constexpr int kSteps = 10;
+  const double dt = model.m()->opt.timestep;
+  const auto same = [](const human::SkeletonPose& a, const human::SkeletonPose& b) {
+    constexpr double kRounding = 1e-12;
+    bool equal = (a.X_WP.translation - b.X_WP.translation).norm() < kRounding &&
+                 (a.X_WP.rotation.coeffs() - b.X_WP.rotation.coeffs()).norm() < kRounding;
+    for (size_t j = 0; j < a.local.size(); ++j) equal = equal && (a.local[j].coeffs() - b.local[j].coeffs()).norm() < kRounding;
+    return equal;
+  };
+  double moved = 0;  // the most a control step moved the right wrist, m
+  while (data.time() < 4.0) {
+    const std::unique_ptr<ScenarioDriver> copy = driver.clone();
+    sim::Data ahead = sim::make_data(model);
+    sim::copy_data(model, data, ahead);
+    copy->drive(model, ahead);
+    const human::SkeletonPose start = ahead.human_pose;
+    ahead.mj->time += kSteps * dt;
+    copy->drive(model, ahead);
+    const human::SkeletonPose end = ahead.human_pose;
+    const auto wrist = [&](const human::SkeletonPose& p) {
+      return human::joint_pose(model.skeleton, p, human::Joint::kRightWrist).translation;
+    };
+    moved = std::max(moved, (wrist(end) - wrist(start)).norm());
+    for (int i = 0; i < kSteps; ++i) {
+      driver.drive_between(model, data, i, kSteps);
+      EXPECT_TRUE(same(data.human_pose, human::interpolate(start, end, static_cast<double>(i) / kSteps)))
+          << "t " << data.time() << " step " << i;
+      sim::step(model, data);
+    }
+    s.observe(model);
+  }
+  EXPECT_GT(moved, 0.01);  // the person moved (m per control step)
+  ExpectNoWarnings(data.mj.get());
 }
 
 }  // namespace

@@ -93,5 +93,27 @@ TEST(SkeletonTest, CapsuleBodyCoversEveryRegion) {
   EXPECT_EQ(to_string(BodyRegion::kUpperArm), "upper_arm");
 }
 
+TEST(SkeletonTest, InterpolateGoesFromOnePoseToTheOther) {
+  const Skeleton k = Skeleton::FromHeight(1.75);
+  const SkeletonPose a = SkeletonPose::Standing(k, 0.2, -0.1, 0.3);
+  SkeletonPose b = SkeletonPose::Standing(k, 0.4, 0.1, 0.5);
+  b.local[static_cast<size_t>(index(Joint::kRightElbow))] = core::axis_angle(core::Vec3::UnitZ(), 1.2);
+  b.hands[1].grip = 1;
+  const auto same = [](const SkeletonPose& p, const SkeletonPose& q) {
+    bool equal = p.X_WP.translation == q.X_WP.translation && p.X_WP.rotation.coeffs() == q.X_WP.rotation.coeffs();
+    for (size_t j = 0; j < p.local.size(); ++j) equal = equal && p.local[j].coeffs() == q.local[j].coeffs();
+    return equal && p.hands[1].grip == q.hands[1].grip;
+  };
+  EXPECT_TRUE(same(interpolate(a, b, 0), a));
+  EXPECT_TRUE(same(interpolate(a, b, 1), b));
+  const SkeletonPose half = interpolate(a, b, 0.5);
+  EXPECT_NEAR((half.X_WP.translation - core::Vec3(0.3, 0, a.X_WP.translation.z())).norm(), 0, 1e-12);
+  EXPECT_DOUBLE_EQ(half.hands[1].grip, 0.5);
+  const double elbow = Eigen::AngleAxisd(half.local[static_cast<size_t>(index(Joint::kRightElbow))]).angle();
+  EXPECT_NEAR(elbow, 0.6, 1e-12);  // half the turn
+  const double yaw = Eigen::AngleAxisd(half.X_WP.rotation * a.X_WP.rotation.conjugate()).angle();
+  EXPECT_NEAR(yaw, 0.1, 1e-12);
+}
+
 }  // namespace
 }  // namespace hribench::human
