@@ -379,13 +379,16 @@ void ScriptDriver::drive_between(const model::Model& model, sim::Data& data, int
   if (step == 0) {
     control_step_start_ = pose_at(model, data.time());
     control_step_end_.reset();
-    if (control_step_start_) control_step_end_ = pose_at(model, data.time() + steps * model.m()->opt.timestep);
+    if (control_step_start_) {
+      const std::optional<Posed> end = pose_at(model, data.time() + steps * model.m()->opt.timestep);
+      if (end) control_step_end_ = end->pose;
+    }
   }
   if (!control_step_start_) return;
   const human::SkeletonPose& start = control_step_start_->pose;
   const double share = static_cast<double>(step) / steps;
   sim::set_human_pose(model, data,
-                      control_step_end_ ? human::interpolate(start, control_step_end_->pose, share) : start);
+                      control_step_end_ ? human::interpolate(start, *control_step_end_, share) : start);
   if (step == 0) hold_as_labelled(model, data, *control_step_start_);
 }
 

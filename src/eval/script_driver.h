@@ -170,8 +170,10 @@ class ScriptDriver : public ScenarioDriver {
   std::array<int, 2> holding_plan_ = {-1, -1};  // act whose labels last_holding_[h] came from
   size_t events_seen_ = 0;
   core::Vec3 p_WT_home_ = core::Vec3::Zero();
-  // drive_between: the person at the current control step's start and end.
-  std::optional<Posed> control_step_start_, control_step_end_;
+  // drive_between: the person at the current control step's start (whose labels the holds
+  // follow) and the pose at its end.
+  std::optional<Posed> control_step_start_;
+  std::optional<human::SkeletonPose> control_step_end_;
 };
 
 }  // namespace hribench::eval

@@ -137,7 +137,7 @@ TEST_F(DataTest, TheIkScratchLeavesOutTheConstraintArenaAndComputesTheSame) {
   const model::Model model = model::build(model::SceneSpec::Default());
   Data data = make_data(model);
   const mjModel* m = model.m();
-  EXPECT_EQ(data.scratch->nbuffer * 10 < data.mj->nbuffer, true)
+  EXPECT_LT(data.scratch->nbuffer * 10, data.mj->nbuffer)
       << "scratch " << data.scratch->nbuffer << " bytes, state " << data.mj->nbuffer;
   ArmVector q = model.robot.home();
   q[1] += 0.3;
