@@ -280,6 +280,11 @@ struct Generated {
   std::vector<Pose> X_palm_hold;
 };
 
+// The scene's <size> element with this arena (constraint rows, contacts).
+std::string size_element(int njmax, int nconmax) {
+  return fmt::format(R"(<size njmax="{}" nconmax="{}" nuserdata="{}"/>)", njmax, nconmax, kHandShapeValues);
+}
+
 Generated generate(const SceneSpec& spec) {
   Generated g{resolve(spec), {}, {}, {}, {}, {}, {}, {}};
   const SceneSpec& s = g.resolved.spec;
@@ -412,7 +417,7 @@ Generated generate(const SceneSpec& spec) {
       R"(<mujoco model="hribench">
 <compiler angle="radian" autolimits="true"/>
 <option timestep="{timestep}" integrator="Euler" cone="elliptic" impratio="10" tolerance="1e-8" iterations="50"/>
-<size njmax="{njmax}" nconmax="{nconmax}" nuserdata="{nuserdata}"/>
+{size}
 {custom}<visual>
   <headlight ambient="0.35 0.35 0.35" diffuse="0.35 0.35 0.35" specular="0 0 0"/>
   <global offwidth="1280" offheight="960"/>
@@ -442,8 +447,8 @@ Generated generate(const SceneSpec& spec) {
 </keyframe>
 </mujoco>
 )",
-      fmt::arg("timestep", mjcf::num(kTimestep)), fmt::arg("njmax", kMaxConstraintRows),
-      fmt::arg("nconmax", kMaxContacts), fmt::arg("nuserdata", kHandShapeValues), fmt::arg("custom", custom),
+      fmt::arg("timestep", mjcf::num(kTimestep)),
+      fmt::arg("size", size_element(kMaxConstraintRows, kMaxContacts)), fmt::arg("custom", custom),
       fmt::arg("static_bit", mjcf::kBitStatic),
       fmt::arg("static_aff", static_aff), fmt::arg("object_bit", mjcf::kBitObject),
       fmt::arg("object_aff", object_aff), fmt::arg("human_bit", mjcf::kBitHuman),
@@ -454,9 +459,10 @@ Generated generate(const SceneSpec& spec) {
   return g;
 }
 
-// Loads MJCF text through a VFS; throws InputError carrying MuJoCo's message on failure.
-mjModel* load(const std::string& xml) {
-  auto vfs = std::make_unique<mjVFS>();
+// Compiles MJCF text through a VFS; throws InputError carrying MuJoCo's message on failure.
+mjModel* compile(const std::string& xml) {
+  // make_unique_for_overwrite: mj_defaultVFS clears the 2 MB struct itself.
+  auto vfs = std::make_unique_for_overwrite<mjVFS>();
   mj_defaultVFS(vfs.get());
   constexpr const char* kName = "hribench_scene.xml";
   HRIB_CHECK(mj_makeEmptyFileVFS(vfs.get(), kName, static_cast<int>(xml.size())) == 0);
@@ -469,6 +475,32 @@ mjModel* load(const std::string& xml) {
   if (m == nullptr)
     throw core::InputError::Message("model::build", std::string("MuJoCo rejected the scene: ") +
                                                         error.data());
+  return m;
+}
+
+// Loads MJCF text through a VFS; throws InputError carrying MuJoCo's message on failure.
+//
+// MuJoCo 2.2.2's compiler makes an mjData of the model it compiles and clears its buffer, whose
+// constraint arrays (efc_AR alone is njmax x njmax) are most of it: about 4 ms of every episode
+// for an arena nothing compiled uses (docs/performance.md, "Fixed costs per episode"). So the
+// scene is compiled with an empty arena, and the arena's sizes are set in the compiled model
+// afterwards, the stack as the compiler sizes it for them (user_model.cc's heuristic, with
+// njmax: five times the square of the constraint rows, degrees of freedom and equalities, plus
+// twenty per element). ModelTest.TheArenaSetAfterCompilingGivesTheSameModel holds the result,
+// byte for byte, to the scene compiled with its arena.
+mjModel* load(const std::string& xml) {
+  const std::string sized = size_element(kMaxConstraintRows, kMaxContacts);
+  const size_t at = xml.find(sized);
+  HRIB_CHECK(at != std::string::npos) << "the scene has no " << sized;
+  std::string empty_arena = xml;
+  empty_arena.replace(at, sized.size(), size_element(0, 0));
+  mjModel* m = compile(empty_arena);
+  m->njmax = kMaxConstraintRows;
+  m->nconmax = kMaxContacts;
+  const int rows = m->njmax + m->neq + m->nv;
+  const int elements = m->nq + m->nv + m->nu + m->na + m->nbody + m->njnt + m->ngeom + m->nsite +
+                       m->neq + m->ntendon + m->nwrap;
+  m->nstack = std::max(1000, 5 * rows * rows + 20 * elements);
   return m;
 }
 

@@ -134,13 +134,13 @@ inline constexpr double kTimestep = 0.005;      // s (200 Hz physics; docs/perfo
 
 // MuJoCo's preallocated arena of every mjData (docs/performance.md). MuJoCo 2.2.2 sizes the
 // constraint arrays by njmax, among them the njmax x njmax matrix efc_AR, and clears the whole
-// buffer whenever an mjData is made (three per episode: the compiler's, the state, the IK
-// scratch), so these sizes are a cost of every episode, not only a limit. kMaxContacts is
-// 3.5x the most contacts `hribench bench --episodes` saw in a task episode (56, over the 13
-// tasks x the 4 built-in policies x 2 seeds); the constraint rows hold a full contact list at
-// the largest condim (4, objects: elliptic cones give one row per dimension) plus 200 rows of
-// joint limits and equalities, so the contact list fills first (a MuJoCo warning, status
-// invalid) and the sizes never change an episode that fits them.
+// buffer whenever an mjData is made (the state's, per episode: the compiler's and the IK
+// scratch's are made without the arena), so these sizes are a cost of every episode, not only a
+// limit. kMaxContacts is 3.5x the most contacts `hribench bench --episodes` saw in a task
+// episode (56, over the 13 tasks x the 4 built-in policies x 2 seeds); the constraint rows
+// hold a full contact list at the largest condim (4, objects: elliptic cones give one row per
+// dimension) plus 200 rows of joint limits and equalities, so the contact list fills first (a
+// MuJoCo warning, status invalid) and the sizes never change an episode that fits them.
 inline constexpr int kMaxContacts = 200;                           // nconmax
 inline constexpr int kMaxConstraintRows = 4 * kMaxContacts + 200;  // njmax
 

@@ -1,7 +1,11 @@
 #include "model/model.h"
 
+#include <array>
+#include <cstring>
+#include <memory>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -326,6 +330,47 @@ TEST_F(ModelTest, NamesAndColours) {
   EXPECT_GT(colour_from_name("red")->r, 0.5f);
   EXPECT_EQ(colour_from_name("nope"), std::nullopt);
   EXPECT_EQ(to_string(GeomOwner::kRobotFinger), "robot_finger");
+}
+
+// build() compiles with an empty constraint arena and sets its sizes afterwards (model.cc, load):
+// the model must be the one MuJoCo compiles from the scene's own MJCF, byte for byte (once the
+// servos' damping is back in the servos), with every robot, with and without the person, with
+// an object in the person's hand.
+TEST_F(ModelTest, TheArenaSetAfterCompilingGivesTheSameModel) {
+  std::vector<SceneSpec> specs;
+  for (const std::string_view robot : robot_names()) {
+    SceneSpec spec = SceneSpec::Default();
+    spec.robot = std::string(robot);
+    specs.push_back(spec);
+  }
+  SceneSpec alone = SceneSpec::Default();
+  alone.human.present = false;
+  specs.push_back(alone);
+  SceneSpec held = SceneSpec::Default();
+  held.objects[0].held_by = human::Side::kRight;
+  specs.push_back(held);
+  const auto bytes = [](const mjModel* m) {
+    std::vector<char> out(static_cast<size_t>(mj_sizeModel(m)));
+    mj_saveModel(m, nullptr, out.data(), static_cast<int>(out.size()));
+    return out;
+  };
+  for (const SceneSpec& spec : specs) {
+    Model model = build(spec);
+    servo_damping_in_servos(model);  // the arm's damping as compiled
+    const std::string& xml = model.mjcf;
+    auto files = std::make_unique<mjVFS>();
+    mj_defaultVFS(files.get());
+    ASSERT_EQ(mj_makeEmptyFileVFS(files.get(), "scene.xml", static_cast<int>(xml.size())), 0);
+    std::memcpy(files->filedata[mj_findFileVFS(files.get(), "scene.xml")], xml.data(), xml.size());
+    std::array<char, 1024> error{};
+    const std::unique_ptr<mjModel, MjModelDeleter> direct(mj_loadXML("scene.xml", files.get(), error.data(), static_cast<int>(error.size())));
+    mj_deleteVFS(files.get());
+    ASSERT_NE(direct, nullptr) << error.data();
+    EXPECT_EQ(model.m()->njmax, kMaxConstraintRows);
+    EXPECT_EQ(model.m()->nconmax, kMaxContacts);
+    EXPECT_GT(model.m()->nstack, 1000);
+    EXPECT_TRUE(bytes(model.m()) == bytes(direct.get())) << spec.robot << ", person " << spec.human.present;
+  }
 }
 
 TEST_F(ModelTest, ToMjcfIsDeterministic) {
