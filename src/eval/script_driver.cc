@@ -336,26 +336,16 @@ std::optional<ScriptDriver::Posed> ScriptDriver::pose_at(const model::Model& mod
   }
   // Each hand follows the latest started act that moves it (a person holding a lid with one
   // hand while the other points); the rest of the body the latest started act.
-  std::array<human::FrameLabel, 2>& labels = posed.labels;
-  std::array<int, 2>& owner = posed.owner;
-  owner = {active_, active_};
+  Holds& holds = posed.holds;
+  holds.owner = hand_owners();
   for (size_t h = 0; h < 2; ++h) {
-    if (!body.moves[h]) {
-      for (size_t i = 0; i < motions_.size(); ++i) {
-        const ActMotion& m = motions_[i];
-        if (!m.playing() || !m.moves[h]) continue;
-        if (owner[h] == active_ || m.start >= motions_[static_cast<size_t>(owner[h])].start) {
-          owner[h] = static_cast<int>(i);
-        }
-      }
-    }
-    if (owner[h] == active_) {
-      labels[h] = body_frame.label;
+    if (holds.owner[h] == active_) {
+      holds.labels[h] = body_frame.label;
       continue;
     }
-    ActMotion& m = motions_[static_cast<size_t>(owner[h])];
+    ActMotion& m = motions_[static_cast<size_t>(holds.owner[h])];
     const human::MotionPlan::Frame arm = m.frame_at(t - m.start);
-    labels[h] = arm.label;
+    holds.labels[h] = arm.label;
     // The arm reaches where the owning plan puts the wrist (world pose), from this torso.
     pose.hands[h] = arm.pose.hands[h];
     const core::Pose X_WW = human::joint_pose(model.skeleton, arm.pose, kWrist[h]);
@@ -368,38 +358,66 @@ std::optional<ScriptDriver::Posed> ScriptDriver::pose_at(const model::Model& mod
   return posed;
 }
 
+std::array<int, 2> ScriptDriver::hand_owners() const {
+  const ActMotion& body = motions_[static_cast<size_t>(active_)];
+  std::array<int, 2> owner = {active_, active_};
+  for (size_t h = 0; h < 2; ++h) {
+    if (body.moves[h]) continue;
+    for (size_t i = 0; i < motions_.size(); ++i) {
+      const ActMotion& m = motions_[i];
+      if (!m.playing() || !m.moves[h]) continue;
+      if (owner[h] == active_ || m.start >= motions_[static_cast<size_t>(owner[h])].start) {
+        owner[h] = static_cast<int>(i);
+      }
+    }
+  }
+  return owner;
+}
+
+std::optional<ScriptDriver::Holds> ScriptDriver::holds_at(const model::Model& model, double t) const {
+  if (active_ < 0 || !model.has_human || !motions_[static_cast<size_t>(active_)].playing()) return std::nullopt;
+  Holds holds;
+  holds.owner = hand_owners();
+  for (size_t h = 0; h < 2; ++h) {
+    const ActMotion& m = motions_[static_cast<size_t>(holds.owner[h])];
+    holds.labels[h] = m.label_at(t - m.start);
+  }
+  return holds;
+}
+
 void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
   const std::optional<Posed> posed = pose_at(model, data.time());
   if (!posed) return;
   sim::set_human_pose(model, data, posed->pose);
-  hold_as_labelled(model, data, *posed);
+  hold_as_labelled(model, data, posed->holds);
 }
 
 void ScriptDriver::drive_between(const model::Model& model, sim::Data& data, int step, int steps) {
   if (step == 0) {
     control_step_start_ = pose_at(model, data.time());
     control_step_end_.reset();
-    if (control_step_start_) {
-      const std::optional<Posed> end = pose_at(model, data.time() + steps * model.m()->opt.timestep);
-      if (end) control_step_end_ = end->pose;
-    }
+    if (control_step_start_) control_step_end_ = pose_at(model, data.time() + steps * model.m()->opt.timestep);
   }
   if (!control_step_start_) return;
-  const human::SkeletonPose& start = control_step_start_->pose;
+  const Posed& start = *control_step_start_;
   const double share = static_cast<double>(step) / steps;
   sim::set_human_pose(model, data,
-                      control_step_end_ ? human::interpolate(start, *control_step_end_, share) : start);
-  if (step == 0) hold_as_labelled(model, data, *control_step_start_);
+                      control_step_end_ ? human::interpolate(start.pose, control_step_end_->pose, share) : start.pose);
+  // The holds change at the physics step where the labels do, as drive's: where the ends hold
+  // the same, nothing changes between them.
+  if (step == 0) {
+    hold_as_labelled(model, data, start.holds);
+  } else if (control_step_end_ && !start.holds.same_as(control_step_end_->holds)) {
+    if (const std::optional<Holds> holds = holds_at(model, data.time())) hold_as_labelled(model, data, *holds);
+  }
 }
 
-void ScriptDriver::hold_as_labelled(const model::Model& model, sim::Data& data, const Posed& posed) {
-  const std::array<human::FrameLabel, 2>& labels = posed.labels;
-  const std::array<int, 2>& owner = posed.owner;
+void ScriptDriver::hold_as_labelled(const model::Model& model, sim::Data& data, const Holds& holds) {
   // Hand holds follow the owning plan's labels (changes within one plan only).
   for (size_t h = 0; h < 2; ++h) {
-    const std::string& holding = labels[h].hands[h].holding;
-    if (holding_plan_[h] != owner[h]) {
-      holding_plan_[h] = owner[h];
+    const std::string& holding = holds.holding(h);
+    if (holding_plan_[h] != holds.owner[h]) {
+      holding_plan_[h] = holds.owner[h];
       last_holding_[h] = holding;
       continue;
     }

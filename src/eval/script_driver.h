@@ -12,7 +12,9 @@
 // with one hand while the other points; while the latest started act that moves the root (a
 // walk) runs, the root and legs follow it, so an act started mid-walk does not stop the walk.
 // Under RunOptions::person_pose_per_control_step (drive_between, a bench candidate) that pose
-// is made at each control step's start and end only and interpolated between.
+// is made at each control step's start and end only and interpolated between; the holds still
+// change at the physics step the labels say (where the two ends hold differently, the labels
+// alone are read at each physics step between).
 // Holds follow the hand's plan labels (holding X begins:
 // a box is held by its lid, sim::grasp_lid_by_human; a plank by point holds,
 // sim::grasp_point_by_human; anything else sim::grasp_by_human; ends: sim::release_by_human).
@@ -125,6 +127,8 @@ class ScriptDriver : public ScenarioDriver {
     human::MotionPlan::Frame frame_at(double t) {
       return plan ? plan->frame_at(t, signals, &knots) : human::MotionPlan::Frame{clip->pose_at(t), {}, {}};
     }
+    // frame_at's labels alone.
+    human::FrameLabel label_at(double t) const { return plan ? plan->label_at(t, signals) : human::FrameLabel{}; }
     double end_time() const { return plan ? plan->end_time(signals) : clip->duration(); }
   };
   struct EventInfo {
@@ -134,17 +138,30 @@ class ScriptDriver : public ScenarioDriver {
     std::string cue_kind;  // non-empty: also a kCue event
   };
 
-  // The person at time t: the body from the active act's plan, each hand from the latest
-  // started act that moves it (labels and owning act per hand), the root and legs from a walk
-  // still running; none while no act poses the body.
-  struct Posed {
-    human::SkeletonPose pose;
+  // Each hand's labels at one instant, from the act whose plan moves it (its owner).
+  struct Holds {
     std::array<human::FrameLabel, 2> labels;
     std::array<int, 2> owner{};  // act whose plan moves each hand
+    // What hand h holds by its owner's labels.
+    const std::string& holding(size_t h) const { return labels[h].hands[h].holding; }
+    bool same_as(const Holds& other) const {
+      return owner == other.owner && holding(0) == other.holding(0) && holding(1) == other.holding(1);
+    }
+  };
+  // The person at time t: the body from the active act's plan, each hand from the latest
+  // started act that moves it (hand_owners), the root and legs from a walk still running; none
+  // while no act poses the body.
+  struct Posed {
+    human::SkeletonPose pose;
+    Holds holds;
   };
   std::optional<Posed> pose_at(const model::Model& model, double t);
+  // The acts whose plans move each hand: the latest started that moves it, else the body's.
+  std::array<int, 2> hand_owners() const;
+  // pose_at's holds without the pose.
+  std::optional<Holds> holds_at(const model::Model& model, double t) const;
   // Grasps and releases what each hand's owning plan says it holds.
-  void hold_as_labelled(const model::Model& model, sim::Data& data, const Posed& posed);
+  void hold_as_labelled(const model::Model& model, sim::Data& data, const Holds& holds);
   void fill_world(const model::Model& model, const sim::Data& data);
   void start_plan(const model::Model& model, const sim::Data& data, size_t act);
   void start_clip(const model::Model& model, const sim::Data& data, size_t act);
@@ -170,10 +187,9 @@ class ScriptDriver : public ScenarioDriver {
   std::array<int, 2> holding_plan_ = {-1, -1};  // act whose labels last_holding_[h] came from
   size_t events_seen_ = 0;
   core::Vec3 p_WT_home_ = core::Vec3::Zero();
-  // drive_between: the person at the current control step's start (whose labels the holds
-  // follow) and the pose at its end.
+  // drive_between: the person at the current control step's start and end.
   std::optional<Posed> control_step_start_;
-  std::optional<human::SkeletonPose> control_step_end_;
+  std::optional<Posed> control_step_end_;
 };
 
 }  // namespace hribench::eval

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -18,6 +19,7 @@
 #include "script/check.h"
 #include "script/sample.h"
 #include "script/schema_io.h"
+#include "sim/control.h"
 #include "sim/data.h"
 #include "sim/hold.h"
 #include "support/mujoco_fixture.h"
@@ -545,6 +547,47 @@ TEST_F(ScriptDriverTest, DriveBetweenInterpolatesThePosesAtTheControlStepsEnds) 
   }
   EXPECT_GT(moved, 0.01);  // the person moved (m per control step)
   ExpectNoWarnings(data.mj.get());
+}
+
+TEST_F(ScriptDriverTest, DriveBetweenGraspsAndReleasesAtThePhysicsStepsDriveDoes) {
+  // The person moves an object themselves (someone else does the job: once the robot leaves
+  // home, which its base joint turning does here): picked up, put down.
+  const script::EpisodeSpec spec =
+      script::sample(script::load_scenario("tasks/X3_someone_else_places.yaml"), 1);
+  const model::Model model = model::build(scene_spec_from_episode(spec));
+  constexpr int kSteps = 10;
+  // Each change of a hand's hold: the physics step, the hand and the object (-1: none).
+  const auto hold_changes = [&](bool between) {
+    Started s(spec, model);
+    sim::ArmVector away = model.robot.home();
+    away[0] += 0.5;
+    sim::set_joint_targets(model, s.data, away);
+    std::vector<std::array<long, 3>> changes;
+    std::array<std::optional<int>, 2> held{};
+    long k = 0;
+    while (s.data.time() < spec.horizon) {
+      for (int i = 0; i < kSteps; ++i, ++k) {
+        if (between) {
+          s.driver.drive_between(model, s.data, i, kSteps);
+        } else {
+          s.driver.drive(model, s.data);
+        }
+        for (size_t h = 0; h < 2; ++h) {
+          const std::optional<int> now = sim::held_object(s.data, h == 0 ? human::Side::kLeft : human::Side::kRight);
+          if (now == held[h]) continue;
+          changes.push_back({k, static_cast<long>(h), now ? *now : -1});
+          held[h] = now;
+        }
+        sim::step(model, s.data);
+      }
+      s.observe(model);
+    }
+    ExpectNoWarnings(s.data.mj.get());
+    return changes;
+  };
+  const auto driven = hold_changes(false);
+  ASSERT_GE(driven.size(), 2u);  // picked up and put down
+  EXPECT_EQ(hold_changes(true), driven);
 }
 
 }  // namespace
