@@ -4,6 +4,7 @@
 
 #include "core/errors.h"
 #include "sim/hold.h"
+#include "sim/memory.h"
 
 namespace hribench::sim {
 
@@ -14,6 +15,7 @@ constexpr int kScratchStack = 1000;  // mjtNum: mj_makeData wants some stack, th
 Data make_data(const model::Model& model) {
   const mjModel* m = model.m();
   HRIB_CHECK(m != nullptr) << "make_data on an unbuilt Model";
+  keep_large_allocations();  // the state's buffer and stack on memory a previous scene mapped
   Data data;
   data.mj.reset(mj_makeData(m));
   // The IK scratch runs only kinematics, centres of mass and Jacobians (sim/control.cc), which
