@@ -117,7 +117,7 @@ struct RunOptions {
   bool forward_after_control_step = false;
   // The person's pose is made from the plans once per control step, at its start and its end,
   // and every physics step between poses the joints interpolated (slerp) from one to the other;
-  // holds change at the physics step the labels say, as released (ScenarioDriver::drive_between). As
+  // holds still change at the physics step the labels say (ScenarioDriver::drive_between). As
   // released, a pose is made for every physics step (false). The physics candidate
   // person-per-control-step of `hribench bench --episodes` (docs/performance.md).
   bool person_pose_per_control_step = false;

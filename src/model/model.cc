@@ -483,11 +483,11 @@ mjModel* compile(const std::string& xml) {
 // MuJoCo 2.2.2's compiler makes an mjData of the model it compiles and clears its buffer, whose
 // constraint arrays (efc_AR alone is njmax x njmax) are most of it: about 4 ms of every episode
 // for an arena nothing compiled uses (docs/performance.md, "Fixed costs per episode"). So the
-// scene is compiled with an empty arena, and the arena's sizes are set in the compiled model
-// afterwards, the stack as the compiler sizes it for them (user_model.cc's heuristic, with
-// njmax: five times the square of the constraint rows, degrees of freedom and equalities, plus
-// twenty per element). ModelTest.TheArenaSetAfterCompilingGivesTheSameModel holds the result,
-// byte for byte, to the scene compiled with its arena.
+// scene is compiled with an empty arena and the arena's sizes are set in the compiled model
+// afterwards, the stack as MuJoCo's compiler sizes it for them (user_model.cc: the larger of
+// 1,000 and five times the square of njmax + neq + nv, plus twenty per model element).
+// ModelTest.TheArenaSetAfterCompilingGivesTheSameModel holds the result, byte for byte, to the
+// scene compiled with its arena.
 mjModel* load(const std::string& xml) {
   const std::string sized = size_element(kMaxConstraintRows, kMaxContacts);
   const size_t at = xml.find(sized);

@@ -52,7 +52,7 @@ void* allocate(size_t size) {
   }
   void* data = std::aligned_alloc(kAlignment, bytes);
   if (data == nullptr) return nullptr;  // mju_malloc reports it
-  const std::lock_guard<std::mutex> lock(blocks().mutex);
+  const std::lock_guard<std::mutex> lock(b.mutex);
   b.handed_out.push_back({data, bytes});
   return data;
 }
