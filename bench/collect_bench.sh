@@ -30,7 +30,7 @@ cost() {
   printf '%-22s %8s s CPU %8s s wall\n' "$name" "$cpu" "$(awk '{print $3}' <<<"$times")"
 }
 
-common=(collect --pool pool/v7 --split adapt --policy oracle --cameras agentview,wrist --size 224
+common=(collect --pool pool/v8 --split adapt --policy oracle --cameras agentview,wrist --size 224
         --tasks "$tasks" --episodes "$episodes" --threads "$(nproc)")
 cost dry-run "$hribench" "${common[@]}" --dry-run --out "$tmp/dry"
 dry="$cpu"

@@ -13,7 +13,7 @@ import hribench
 
 
 def collect(path, steps=40):
-    env = hribench.make(pool="pool/v7", split="eval", index=0, cameras=[("agentview", 96, 128)],
+    env = hribench.make(pool="pool/v8", split="eval", index=0, cameras=[("agentview", 96, 128)],
                         state_track=True)
     obs, info = env.reset()
     frames, tcp, humans, rewards = [obs["images"]["agentview"]], [obs["tcp_pos"]], [], []

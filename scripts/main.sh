@@ -2,7 +2,7 @@
 # The README's main command: install, build, then run the main job and write its outputs
 # under ${HRIBENCH_OUT:-out/}: validate the 13 task scripts, evaluate the built-in reference
 # policies (the oracle expert, the reactive and blind baselines, noop) on the held-out eval split
-# of the released episode pool (pool/v7, benchmark version 7; see docs/generation.md) with
+# of the released episode pool (pool/v8, benchmark version 7; see docs/generation.md) with
 # every episode's log, make the video and the 3D replay of the first failed episode of each task
 # and policy and rewrite the report page to link them (docs/report.md), render the scene and
 # run the speed benchmark.
@@ -15,7 +15,7 @@ mkdir -p "$out"
 cd "$root"
 "$build/hribench" version
 "$build/hribench" check tasks/*.yaml
-"$build/hribench" eval --pool "${HRIBENCH_POOL:-pool/v7}" --split eval \
+"$build/hribench" eval --pool "${HRIBENCH_POOL:-pool/v8}" --split eval \
   --policy oracle,reactive,blind,noop --threads "$(nproc)" --save-logs --out "$out/run" --force
 "$build/hribench" video "$out/run" --failures 1
 "$build/hribench" replay-html "$out/run" --failures 1

@@ -1,4 +1,4 @@
-// `hribench collect --pool pool/v7 --split adapt --policy oracle --cameras agentview,wrist
+// `hribench collect --pool pool/v8 --split adapt --policy oracle --cameras agentview,wrist
 // --size 224 --format lerobot|lerobot-v3|act-hdf5|robomimic --out DIR [...]`: rolls the policy out on the
 // split's episodes, renders the cameras at every control step and writes a training dataset
 // (io/collect.h, docs/datasets.md), with a progress line. --dry-run renders every frame and

@@ -90,7 +90,7 @@ std::vector<std::string> candidate_parts(const std::string& name) {
 }
 
 // Applies the parts of a candidate that change the scene before it is built (no-base-feet), how
-// the episode observes (observe-forward) or poses the person (person-per-control-step); returns
+// the episode observes (observe-forward) or poses the person (person-per-physics-step); returns
 // the others, for apply_physics.
 std::vector<std::string> apply_scene_parts(const std::string& name, model::SceneSpec& scene,
                                            eval::RunOptions& options) {
@@ -100,8 +100,8 @@ std::vector<std::string> apply_scene_parts(const std::string& name, model::Scene
       scene.base_feet = false;
     } else if (part == "observe-forward") {
       options.forward_after_control_step = true;
-    } else if (part == "person-per-control-step") {
-      options.person_pose_per_control_step = true;
+    } else if (part == "person-per-physics-step") {
+      options.person_pose_per_physics_step = true;
     } else {
       rest.push_back(part);
     }

@@ -34,9 +34,9 @@
 // no-base-feet (model::SceneSpec::base_feet off: no hidden square foot inside the cups' and
 // bottles' round bases); observe-forward (the episode observes each control step's new state
 // with MuJoCo's forward pass instead of its kinematics alone,
-// eval::RunOptions::forward_after_control_step); person-per-control-step (the person posed
-// from the plans once per control step, interpolated between,
-// eval::RunOptions::person_pose_per_control_step); joined by '+' they combine
+// eval::RunOptions::forward_after_control_step); person-per-physics-step (the person posed
+// from the plans at every physics step, as released up to pool v7,
+// eval::RunOptions::person_pose_per_physics_step); joined by '+' they combine
 // (euler+iterations=20). Pool v6's physics: timestep=0.0025+finger-armature=0.1+no-base-feet+
 // observe-forward.
 
@@ -50,7 +50,7 @@ namespace hribench::cli {
 inline constexpr std::string_view kPhysicsCandidates =
     "as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, impratio=X, "
     "noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, no-base-feet, observe-forward, "
-    "person-per-control-step";
+    "person-per-physics-step";
 
 struct EpisodeBenchOptions {
   std::string tasks = "all";           // task ids or names (gen::resolve_task_scripts)

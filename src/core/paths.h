@@ -10,7 +10,7 @@
 //   4. the source tree this binary was built from (compiled in), if it has a tasks/ folder;
 //   5. the current directory.
 //
-// A relative path the user names (`--pool pool/v7`, `--task tasks/I1_point_pick.yaml`) is taken
+// A relative path the user names (`--pool pool/v8`, `--task tasks/I1_point_pick.yaml`) is taken
 // from the current directory when it exists there, else from the data root
 // (resolve_data_path). Names recorded in outputs (manifests, options) stay as written, so a run
 // records the same options whatever folder it was started from.

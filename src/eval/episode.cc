@@ -390,10 +390,10 @@ bool Episode::advance(const policy::Action* action) {
     sim::set_gripper_width(model, data, a.back() * model.robot.gripper.max_width());
   }
   for (int i = 0; i < substeps_; ++i) {
-    if (options_.person_pose_per_control_step) {
-      driver_->drive_between(model, data, i, substeps_);
-    } else {
+    if (options_.person_pose_per_physics_step) {
       driver_->drive(model, data);
+    } else {
+      driver_->drive_between(model, data, i, substeps_);
     }
     sim::prepare_step(model, data);
     for (EpisodeObserver* o : observers_) o->on_physics_step(*this);

@@ -53,11 +53,11 @@ class ScenarioDriver {
   virtual std::vector<std::string> predicate_names() const = 0;
   // Called after sim::reset at the start of an episode.
   virtual void reset(const model::Model& model, sim::Data& data) = 0;
-  // Before every physics step: pose the human for data.time() (sim::set_human_pose).
+  // Under RunOptions::person_pose_per_physics_step, before every physics step: pose the human
+  // for data.time() (sim::set_human_pose).
   virtual void drive(const model::Model& model, sim::Data& data) = 0;
-  // Instead of drive, under RunOptions::person_pose_per_control_step: before physics step
-  // `step` (0-based) of the `steps` of a control step. A driver that poses only by drive poses
-  // as drive does.
+  // As released, instead of drive: before physics step `step` (0-based) of the `steps` of a
+  // control step. A driver that poses only by drive poses as drive does.
   virtual void drive_between(const model::Model& model, sim::Data& data, int /*step*/, int /*steps*/) {
     drive(model, data);
   }
@@ -115,12 +115,13 @@ struct RunOptions {
   // (sim::forward, pools up to v6), the physics candidate observe-forward of `hribench bench
   // --episodes` (docs/performance.md, "Physics").
   bool forward_after_control_step = false;
-  // The person's pose is made from the plans once per control step, at its start and its end,
-  // and every physics step between poses the joints interpolated (slerp) from one to the other;
-  // holds still change at the physics step the labels say (ScenarioDriver::drive_between). As
-  // released, a pose is made for every physics step (false). The physics candidate
-  // person-per-control-step of `hribench bench --episodes` (docs/performance.md).
-  bool person_pose_per_control_step = false;
+  // The person's pose is made from the plans once per control step, at its start and its end
+  // (the last one's end where nothing changed between), and every physics step between poses
+  // the joints interpolated (slerp) from one to the other; holds change at the physics step the
+  // labels say (ScenarioDriver::drive_between), as released since pool v8. true: a pose made
+  // for every physics step (ScenarioDriver::drive, pools up to v7), the physics candidate
+  // person-per-physics-step of `hribench bench --episodes` (docs/performance.md).
+  bool person_pose_per_physics_step = false;
 };
 
 // What one step of an Episode returns.

@@ -394,9 +394,22 @@ void ScriptDriver::drive(const model::Model& model, sim::Data& data) {
 
 void ScriptDriver::drive_between(const model::Model& model, sim::Data& data, int step, int steps) {
   if (step == 0) {
-    control_step_start_ = pose_at(model, data.time());
+    // The last control step's end is this one's start where nothing pose_at reads besides the
+    // time changed since it was made (observe changes it when an act starts or ends, or a phase
+    // signal arrives); otherwise both ends are made anew.
+    if (control_step_end_ && control_step_end_time_ == data.time() && plan_inputs_ == plan_inputs()) {
+      control_step_start_ = std::move(control_step_end_);
+    } else {
+      control_step_start_ = pose_at(model, data.time());
+    }
     control_step_end_.reset();
-    if (control_step_start_) control_step_end_ = pose_at(model, data.time() + steps * model.m()->opt.timestep);
+    if (control_step_start_) {
+      // The time the data will have at the control step's end: mj_step adds the timestep.
+      control_step_end_time_ = data.time();
+      for (int i = 0; i < steps; ++i) control_step_end_time_ += model.m()->opt.timestep;
+      control_step_end_ = pose_at(model, control_step_end_time_);
+      plan_inputs_ = plan_inputs();
+    }
   }
   if (!control_step_start_) return;
   const Posed& start = *control_step_start_;
@@ -410,6 +423,21 @@ void ScriptDriver::drive_between(const model::Model& model, sim::Data& data, int
   } else if (control_step_end_ && !start.holds.same_as(control_step_end_->holds)) {
     if (const std::optional<Holds> holds = holds_at(model, data.time())) hold_as_labelled(model, data, *holds);
   }
+}
+
+ScriptDriver::PlanInputs ScriptDriver::plan_inputs() const {
+  PlanInputs inputs;
+  inputs.active = active_;
+  for (size_t i = 0; i < motions_.size(); ++i) {
+    inputs.signals += motions_[i].signals.size();
+    switch (runtime_.acts[i].status) {
+      case script::ActStatus::kWaiting: break;
+      case script::ActStatus::kRunning: inputs.progress += 1; break;
+      case script::ActStatus::kDone:
+      case script::ActStatus::kSkipped: inputs.progress += 2; break;
+    }
+  }
+  return inputs;
 }
 
 void ScriptDriver::hold_as_labelled(const model::Model& model, sim::Data& data, const Holds& holds) {

@@ -6,15 +6,17 @@
 // (objects in ActGraph::objects order — platforms as fixed boxes —, TCP, gripper, finger
 // contacts, palms and holds), steps the runtime, plans the motion (human::plan_motion) of every
 // human act that started, from the human's current pose, and copies the runtime's new events
-// into the log. Each physics step (drive): poses the body from the most recently started act's
-// plan at (t - act start); each hand follows the latest started act whose plan moves that hand
-// (its arm solved to that plan's wrist pose from the current torso), so a person can hold a lid
-// with one hand while the other points; while the latest started act that moves the root (a
-// walk) runs, the root and legs follow it, so an act started mid-walk does not stop the walk.
-// Under RunOptions::person_pose_per_control_step (drive_between, a bench candidate) that pose
-// is made at each control step's start and end only and interpolated between; the holds still
+// into the log. The person's pose at an instant (pose_at): the body from the most recently
+// started act's plan at (t - act start); each hand follows the latest started act whose plan
+// moves that hand (its arm solved to that plan's wrist pose from the current torso), so a
+// person can hold a lid with one hand while the other points; while the latest started act
+// that moves the root (a walk) runs, the root and legs follow it, so an act started mid-walk
+// does not stop the walk. Each physics step (drive_between, as released since pool v8): the
+// pose interpolated between those at the control step's start and end (the last control
+// step's end where nothing the pose reads changed since: the same pose, made once); the holds
 // change at the physics step the labels say (where the two ends hold differently, the labels
-// alone are read at each physics step between).
+// alone are read at each physics step between). Under RunOptions::person_pose_per_physics_step
+// (drive, pools up to v7) the pose is made for every physics step.
 // Holds follow the hand's plan labels (holding X begins:
 // a box is held by its lid, sim::grasp_lid_by_human; a plank by point holds,
 // sim::grasp_point_by_human; anything else sim::grasp_by_human; ends: sim::release_by_human).
@@ -156,6 +158,17 @@ class ScriptDriver : public ScenarioDriver {
     Holds holds;
   };
   std::optional<Posed> pose_at(const model::Model& model, double t);
+  // What pose_at reads besides the time and the started plans (fixed once made), as counts
+  // that any change between two control steps changes: the act posing the body, the phase
+  // signals that arrived (they only ever arrive), and the acts' progress (waiting 0, running 1,
+  // done or skipped 2: an act's status only ever moves on, and a plan starts with its act).
+  struct PlanInputs {
+    int active = -1;
+    size_t signals = 0;
+    size_t progress = 0;
+    bool operator==(const PlanInputs&) const = default;
+  };
+  PlanInputs plan_inputs() const;
   // The acts whose plans move each hand: the latest started that moves it, else the body's.
   std::array<int, 2> hand_owners() const;
   // pose_at's holds without the pose.
@@ -187,9 +200,12 @@ class ScriptDriver : public ScenarioDriver {
   std::array<int, 2> holding_plan_ = {-1, -1};  // act whose labels last_holding_[h] came from
   size_t events_seen_ = 0;
   core::Vec3 p_WT_home_ = core::Vec3::Zero();
-  // drive_between: the person at the current control step's start and end.
+  // drive_between: the person at the current control step's start and end, the time of its
+  // end, and what the end's pose was made from.
   std::optional<Posed> control_step_start_;
   std::optional<Posed> control_step_end_;
+  double control_step_end_time_ = 0;
+  PlanInputs plan_inputs_;
 };
 
 }  // namespace hribench::eval

@@ -38,8 +38,10 @@ namespace hribench::gen {
 // ever(grasped(robot, plank) and moved(plank, 0.10) and tilt(plank) < 15) (pool/v6, git
 // 6c5c89a-ee3b8ce); 7: the 5 ms physics step with 1.2 kg fingers, a hidden square foot under
 // every cup and bottle, and each control step's state observed with MuJoCo's kinematics
-// instead of a forward pass (pool/v7).
-inline constexpr int kPoolVersion = 7;
+// instead of a forward pass (pool/v7, git a223241-98a17ce); 8: the person posed from the plans
+// once per control step and interpolated between, and a reaching hand's lean solved every
+// 100 ms (pool/v8).
+inline constexpr int kPoolVersion = 8;
 // The released pool of this benchmark version, as a path from the data root: "pool/vN" with N
 // = kPoolVersion (docs/generation.md).
 std::string released_pool();

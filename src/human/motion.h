@@ -58,9 +58,11 @@ struct PrimitiveParams {
 void validate(const PrimitiveParams& params);
 
 // How often a reaching hand's lean is solved (s of plan time, from 0): the trunk's lean between
-// two knots is interpolated between theirs (docs/motion.md, "Leaning"). As often as the robot
-// decides; solving it at every physics step cost C1, C4 and I2 more than their physics.
-inline constexpr double kLeanPeriod = 0.05;
+// two knots is interpolated between theirs (docs/motion.md, "Leaning"). Every other control
+// step since pool v8 (every control step before: co_lift and gesture_delivery spent a tenth of
+// their physics on it, docs/performance.md); solving it at every physics step cost C1, C4 and
+// I2 more than their physics.
+inline constexpr double kLeanPeriod = 0.1;
 
 // Signals for reactive phases: phase name -> the time (s, plan time) its signal arrived. A
 // waiting phase lasts at least its nominal duration and ends at max(nominal end, signal time).

@@ -173,15 +173,15 @@ TEST(EpisodeBenchTest, PoolV6sFeetlessForwardObservationAreCandidates) {
       << j["tasks"][3].dump();
 }
 
-TEST(EpisodeBenchTest, PosingThePersonPerControlStepIsACandidate) {
-  // The person offers the object from the start: posed once per control step and interpolated
-  // between, its pose differs from the one made every physics step, so the log does; the
-  // physics steps are the same.
+TEST(EpisodeBenchTest, PosingThePersonPerPhysicsStepIsACandidate) {
+  // The person offers the object from the start: posed at every physics step, its pose differs
+  // from the one made once per control step and interpolated between (as built), so the log
+  // does; the physics steps are the same.
   const nlohmann::json j = run_episode_bench_json(
-      "--tasks C1 --policies noop --horizon 4 --threads 1 --physics as-built,person-per-control-step");
+      "--tasks C1 --policies noop --horizon 4 --threads 1 --physics as-built,person-per-physics-step");
   ASSERT_FALSE(j.is_discarded()) << "not valid JSON";
   ASSERT_EQ(j["tasks"].size(), 2u);
-  EXPECT_EQ(j["tasks"][1]["physics"], "person-per-control-step");
+  EXPECT_EQ(j["tasks"][1]["physics"], "person-per-physics-step");
   EXPECT_EQ(j["tasks"][1]["differ_from_first_physics"], 1) << j["tasks"][1].dump();
   EXPECT_EQ(j["tasks"][1]["physics_steps_per_episode"], j["tasks"][0]["physics_steps_per_episode"]);
 }
@@ -196,11 +196,11 @@ TEST(EpisodeBenchTest, BadOptionsAreOneLine) {
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics rk4",
          "--physics: expected as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, "
          "impratio=X, noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, no-base-feet, observe-forward, "
-         "person-per-control-step, joined by '+', got 'rk4'"},
+         "person-per-physics-step, joined by '+', got 'rk4'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics noslip=2.5",
          "--physics: expected as-built, implicit, euler, euler-servo, timestep=S, iterations=N, tolerance=X, "
          "impratio=X, noslip=N, finger-armature=KG, grasp-timeconst=S, grasp-dmax=X, no-base-feet, observe-forward, "
-         "person-per-control-step, joined by '+', got 'noslip=2.5'"},
+         "person-per-physics-step, joined by '+', got 'noslip=2.5'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics grasp-dmax=1.5",
          "--physics: expected grasp-dmax below 1, got 'grasp-dmax=1.5'"},
         {"bench --episodes --tasks I1 --horizon 0.1 --threads 1 --physics timestep=0.003",

@@ -6,7 +6,8 @@
 // the exceptions are listed below with the reason docs/metrics.md gives for each.
 // One seeded episode per task (seeds the oracle solves, as in oracle_tasks_test.cc).
 // The dense reward's return (eval/reward.h) must order oracle, reactive and blind too, on
-// seeds 0-4 of every task: the metrics' ladder seed here, the other seeds in DenseLadder.
+// seeds 0-4 of every task: the metrics' ladder seed here, the other seeds the oracle solves in
+// DenseLadder.
 // HRIB_LADDER_PRINT=1 prints every comparison.
 
 #include <gtest/gtest.h>
@@ -134,17 +135,23 @@ const std::vector<TaskCase> kLadderCases = {
     {"tasks/X1_intrusion_yield.yaml", 0}, {"tasks/X2_object_moved.yaml", 0},
     {"tasks/X3_someone_else_places.yaml", 0}, {"tasks/X4_blocked_target.yaml", 0}};
 
-// Seeds 0-4 of every task that the metrics' ladder does not already run.
+// Seeds 0-4 that the oracle does not solve, left out of DenseLadder: C1 seed 4 since pool v8
+// (its grasp of the offered bottle closes one control step later than with pool v7's person,
+// and it lets the bottle go 7 cm above the bin's floor: it falls faster than `dropped`'s
+// 1 m/s; the pool's executable filter rejects such candidates).
+const std::vector<TaskCase> kOracleFails = {{"tasks/C1_handover_h2r.yaml", 4}};
+
+// Seeds 0-4 of every task that the metrics' ladder does not already run and the oracle solves.
 std::vector<TaskCase> other_seeds_0_to_4() {
   std::vector<TaskCase> cases;
   for (size_t i = 0; i < kLadderCases.size(); ++i) {
     const std::string file = kLadderCases[i].file;
     if (i > 0 && file == kLadderCases[i - 1].file) continue;
     for (uint64_t seed = 0; seed < 5; ++seed) {
-      const bool in_ladder = std::any_of(kLadderCases.begin(), kLadderCases.end(), [&](const TaskCase& c) {
-        return c.file == file && c.seed == seed;
-      });
-      if (!in_ladder) cases.push_back({kLadderCases[i].file, seed});
+      const auto listed = [&](const std::vector<TaskCase>& list) {
+        return std::any_of(list.begin(), list.end(), [&](const TaskCase& c) { return c.file == file && c.seed == seed; });
+      };
+      if (!listed(kLadderCases) && !listed(kOracleFails)) cases.push_back({kLadderCases[i].file, seed});
     }
   }
   return cases;
@@ -227,6 +234,13 @@ TEST_P(DenseLadder, OracleAboveReactiveAboveBlind) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Tasks, DenseLadder, ::testing::ValuesIn(other_seeds_0_to_4()));
+
+// What DenseLadder leaves out, it leaves out because the oracle fails it.
+TEST(DenseLadderLeftOut, TheOracleFailsThem) {
+  for (const TaskCase& c : kOracleFails) {
+    EXPECT_FALSE(run_task_rewarded(c.file, c.seed, "oracle").scored.metrics.success) << c.file << " seed " << c.seed;
+  }
+}
 
 }  // namespace
 }  // namespace hribench::eval

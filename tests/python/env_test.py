@@ -45,14 +45,14 @@ def test_reset_with_another_seed_samples_another_episode():
 
 
 def test_pool_episode_and_state_track():
-    env = hribench.make(pool="pool/v7", split="eval", index=7, state_track=True, horizon=0.1)
+    env = hribench.make(pool="pool/v8", split="eval", index=7, state_track=True, horizon=0.1)
     obs, _ = env.reset()
     assert obs["state"]["human_joints"].shape == (22, 3)
     assert set(obs["state"]["objects"]) == set(env.observation_space["state"]["objects"].keys())
     with pytest.raises(ValueError, match="seed: expected this pool episode's seed"):
         env.reset(seed=env.spec.seed + 1)
     with pytest.raises(ValueError, match=r"index: expected 0\.\.[0-9]+ \(episodes of split eval\), got 100000"):
-        hribench.make(pool="pool/v7", index=100000)
+        hribench.make(pool="pool/v8", index=100000)
 
 
 def test_bad_arguments_raise_with_the_cli_messages():
@@ -65,7 +65,7 @@ def test_bad_arguments_raise_with_the_cli_messages():
     with pytest.raises(TypeError, match="cameras: expected"):
         hribench.make("I1", cameras=[3])
     with pytest.raises(ValueError, match="split: expected"):
-        hribench.make(pool="pool/v7", split="train")
+        hribench.make(pool="pool/v8", split="train")
     env = hribench.make("I1", seed=0, horizon=0.1)
     env.reset()
     with pytest.raises(ValueError, match="expected 7 values"):
