@@ -505,14 +505,14 @@ TEST_F(ScriptDriverTest, GivingUpKeepsTheOfferedItem) {
 
 // As released, the person's pose at physics step i of a control step is the pose drive()
 // gives at the control step's start slerped a share i / n toward the one it gives at its end
-// (both from a copy of the driver as it stood), to the bit, including where the last control
-// step's end is kept as this one's start and where acts start and end and phase signals arrive
-// between control steps (where no act poses the person, the pose is left as it is, not slerped
-// to itself).
+// (both from a copy of the driver as it stood), to the bit, both where the last control step's
+// end is kept as this one's start and where an act starts or a phase signal arrives between
+// two control steps (where no act poses the person, the pose is left as it is, not slerped to
+// itself).
 TEST_F(ScriptDriverTest, DriveBetweenInterpolatesThePosesAtTheControlStepsEnds) {
   // The person gestures toward an item and holds the hand out for it: the gesture's waiting
   // phase gets its signal at 1.9 s, which moves the pose at that control step's start (the
-  // end kept from the control step before would be off by 0.01 in a joint's quaternion).
+  // end kept from the control step before is off by about 0.01 in a joint's quaternion).
   const script::EpisodeSpec spec =
       script::sample(script::load_scenario("tasks/I2_gesture_delivery.yaml"), 0);
   const model::Model model = model::build(scene_spec_from_episode(spec));
