@@ -137,8 +137,8 @@ const std::vector<TaskCase> kLadderCases = {
 
 // Seeds 0-4 that the oracle does not solve, left out of DenseLadder: C1 seed 4 since pool v8
 // (its grasp of the offered bottle closes one control step later than with pool v7's person,
-// and it lets the bottle go 7 cm above the bin's floor: it falls faster than `dropped`'s
-// 1 m/s; the pool's executable filter rejects such candidates).
+// and the bottle, let go over the bin, falls 7 cm: faster than `dropped`'s 1 m/s; the pool's
+// executable filter rejects such candidates).
 const std::vector<TaskCase> kOracleFails = {{"tasks/C1_handover_h2r.yaml", 4}};
 
 // Seeds 0-4 of every task that the metrics' ladder does not already run and the oracle solves.
