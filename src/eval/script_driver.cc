@@ -397,7 +397,8 @@ void ScriptDriver::drive_between(const model::Model& model, sim::Data& data, int
     // The last control step's end is this one's start where nothing pose_at reads besides the
     // time changed since it was made (observe changes it when an act starts or ends, or a phase
     // signal arrives); otherwise both ends are made anew.
-    if (control_step_end_ && control_step_end_time_ == data.time() && plan_inputs_ == plan_inputs()) {
+    const PlanInputs inputs = plan_inputs();
+    if (control_step_end_ && control_step_end_time_ == data.time() && plan_inputs_ == inputs) {
       control_step_start_ = std::move(control_step_end_);
     } else {
       control_step_start_ = pose_at(model, data.time());
@@ -408,7 +409,7 @@ void ScriptDriver::drive_between(const model::Model& model, sim::Data& data, int
       control_step_end_time_ = data.time();
       for (int i = 0; i < steps; ++i) control_step_end_time_ += model.m()->opt.timestep;
       control_step_end_ = pose_at(model, control_step_end_time_);
-      plan_inputs_ = plan_inputs();
+      plan_inputs_ = inputs;
     }
   }
   if (!control_step_start_) return;
